@@ -1,0 +1,136 @@
+#include "app/commands.hpp"
+
+#include "mesher/mesher.hpp"
+#include "solver/core/error.hpp"
+#include "solver/io/case_reader.hpp"
+#include "solver/io/model_h5.hpp"
+#include "solver/io/model_vtu.hpp"
+#include "solver/time/run.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <iostream>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace sphfem {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommonOptions {
+  std::string case_file;
+  std::string out_dir;
+  std::vector<std::string> overrides;
+  int threads = 0;
+  bool quiet = false;
+};
+
+void add_common(CLI::App& cmd, CommonOptions& o) {
+  cmd.add_option("case", o.case_file, "case file (YAML, SI units)")->required();
+  cmd.add_option("-o,--out", o.out_dir, "output folder")->required();
+  cmd.add_option("--set", o.overrides,
+                 "override a case key, e.g. --set time.end=1e-5 (repeatable; value is YAML)")
+      ->take_all()
+      ->allow_extra_args(false);
+  cmd.add_option("-j,--threads", o.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_flag("-q,--quiet", o.quiet, "no log or progress on stderr (run.log still written)");
+}
+
+void set_threads(int threads) {
+#ifdef _OPENMP
+  if (threads > 0)
+    omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+}
+
+// Meshes the case and writes OUT/model.h5 and OUT/model.vtu.
+Model mesh_and_write(const Case& c, const fs::path& out, bool quiet) {
+  Model model = mesh_case(c);
+  fs::create_directories(out);
+  write_model_h5(model, out / "model.h5");
+  write_model_vtu(model, out / "model.vtu");
+  if (!quiet)
+    std::cerr << "mesh: " << model.node_count() << " nodes, " << model.element_count()
+              << " hexahedra → " << (out / "model.h5").string() << ", "
+              << (out / "model.vtu").string() << "\n";
+  return model;
+}
+
+// OUT/model.h5 if it exists and was made from the same mesh keys, else a fresh mesh.
+Model current_model(const Case& c, const fs::path& out, bool quiet) {
+  const fs::path file = out / "model.h5";
+  if (fs::exists(file)) {
+    Model model = read_model_h5(file);
+    if (model.signature == mesh_signature(c))
+      return model;
+    if (!quiet)
+      std::cerr << "mesh: " << file.string() << " is stale (the case's mesh keys changed)\n";
+  }
+  return mesh_and_write(c, out, quiet);
+}
+
+void print_outputs(const fs::path& out, const nlohmann::json& summary) {
+  std::cout << "results:  " << (out / "results.pvd").string() << "  (open in ParaView)\n"
+            << "summary:  " << (out / "summary.json").string() << "\n"
+            << "history:  " << (out / "history.csv").string() << "\n"
+            << "energy balance error " << summary["energy"]["balance_error"].get<double>()
+            << ", " << summary["steps"].get<long long>() << " steps in "
+            << summary["wall_s"].get<double>() << " s\n";
+}
+
+} // namespace
+
+int run_command_line(int argc, char** argv) {
+  CLI::App app{"sphfem — coupled SPH–FEM impact dynamics (Zhang, Qiang & Gao 2011)", "sphfem"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "sphfem 0.1.0");
+
+  CommonOptions mesh_o, solve_o, run_o;
+  auto* mesh = app.add_subcommand("mesh", "make OUT/model.h5 and OUT/model.vtu from a case");
+  add_common(*mesh, mesh_o);
+  auto* solve_cmd = app.add_subcommand(
+      "solve", "run the simulation (meshes first if OUT/model.h5 is missing or stale)");
+  add_common(*solve_cmd, solve_o);
+  auto* run = app.add_subcommand("run", "mesh + solve: the one-command pipeline");
+  add_common(*run, run_o);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (mesh->parsed()) {
+      const Case c = read_case(mesh_o.case_file, mesh_o.overrides);
+      mesh_and_write(c, mesh_o.out_dir, mesh_o.quiet);
+      return 0;
+    }
+    const bool remesh = run->parsed();
+    const CommonOptions& o = remesh ? run_o : solve_o;
+    set_threads(o.threads);
+    const Case c = read_case(o.case_file, o.overrides);
+    const fs::path out = o.out_dir;
+    const Model model = remesh ? mesh_and_write(c, out, o.quiet) : current_model(c, out, o.quiet);
+    const auto summary = solve(c, model, {out, !o.quiet});
+    print_outputs(out, summary);
+    return 0;
+  } catch (const Error& e) {
+    std::cerr << "sphfem: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "sphfem: internal error: " << e.what() << "\n";
+    return 3;
+  }
+}
+
+} // namespace sphfem

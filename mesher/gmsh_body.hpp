@@ -1,0 +1,40 @@
+// Mesher internals: one body at a time in gmsh's current model. box.cpp and cylinder.cpp build
+// the geometry with structured-mesh constraints and named faces; extract.cpp copies the mesh
+// into the Model. Verified by tests/mesher/mesher_test.cpp.
+#pragma once
+
+#include "solver/io/case.hpp"
+#include "solver/state/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace sphfem::mesher {
+
+// Where the body's meshing frame sits in space: x = rotation · x_local + origin.
+struct Placement {
+  Mat3 rotation = Mat3::Identity();
+  Vec3 origin = Vec3::Zero();
+};
+
+// Build the body in gmsh's current (empty) model, ready for generate(3): transfinite and
+// recombination constraints set, faces added as physical surfaces "<body>/<face>".
+Placement build_box(const BodySpec& body);
+Placement build_cylinder(const BodySpec& body);
+
+// Number of element layers for `length` at `element_size`: max(1, round(length / size)).
+int divisions(double length, double element_size);
+
+// Adds the surfaces as the physical surface group named `name`.
+void add_named_face(const std::string& name, const std::vector<int>& surfaces);
+
+// `hex` (gmsh order, indices into x) with positive volume: mirrored, bottom and top faces
+// reversed, if inverted. Throws for a degenerate hex.
+Hex with_positive_volume(const std::vector<Vec3>& x, Hex hex);
+
+// Appends the meshed current gmsh model to `model` as body `body_id`: the nodes the hexes use
+// (in gmsh tag order, placed), the hexes reordered to positive volume, and every physical
+// surface as a node set and a face set of outward quads.
+void append_mesh(Model& model, int body_id, const Placement& placement);
+
+} // namespace sphfem::mesher

@@ -1,0 +1,117 @@
+#include "solver/fem/hex_update.hpp"
+
+#include "solver/core/error.hpp"
+#include "solver/core/parallel.hpp"
+#include "solver/fem/hex8.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace sphfem {
+
+namespace {
+
+HexPoints gather(const std::vector<Vec3>& field, const Hex& nodes) {
+  HexPoints out;
+  for (int I = 0; I < 8; ++I)
+    out[I] = field[nodes[I]];
+  return out;
+}
+
+// Bulk viscosity q = ρ L (C0 L ε̇² − C1 c ε̇) in compression (ε̇ = tr D < 0), else 0.
+double bulk_viscosity(double rho, double length, double c, double trace_D, const FemSpec& fem) {
+  if (trace_D >= 0)
+    return 0;
+  return rho * length *
+         (fem.bulk_viscosity_quadratic * length * trace_D * trace_D -
+          fem.bulk_viscosity_linear * c * trace_D);
+}
+
+} // namespace
+
+double update_hex_elements(const HexStepInput& in, const std::vector<ElasticConstants>& materials,
+                           const FemSpec& fem, HexElements& e) {
+  const Index n = e.size();
+  const bool stiffness = fem.hourglass_form == HourglassForm::Stiffness;
+  const double dt = in.dt;
+  double dt_min = std::numeric_limits<double>::infinity();
+  Index first_inverted = n;
+
+#pragma omp parallel for schedule(static) reduction(min : dt_min, first_inverted) \
+    if (n > parallel_min_items / 16)
+  for (Index k = 0; k < n; ++k) {
+    const Hex& nodes = e.nodes_e[k];
+    const ElasticConstants& mat = materials[e.material_e[k]];
+    const HexPoints x1 = gather(in.x_new, nodes);
+    const HexPoints v = gather(in.v_half, nodes);
+    const Hex8Gradient g = hex8_gradient(x1);
+    if (!(g.volume > 0)) {
+      first_inverted = std::min(first_inverted, k);
+      continue;
+    }
+    const double rho = e.mass_e[k] / g.volume;
+    const double c = std::sqrt(mat.p_wave_modulus() / rho);
+    const double length = hex8_characteristic_length(x1, g.volume);
+    double trace_D = 0;
+
+    if (dt > 0) {
+      HexPoints xm;
+      for (int I = 0; I < 8; ++I)
+        xm[I] = x1[I] - 0.5 * dt * v[I];
+      const Hex8Gradient gm = hex8_gradient(xm);
+      const Mat3 L = hex8_velocity_gradient(gm, v);
+      const Mat3 D = 0.5 * (L + L.transpose());
+      const Mat3 W = 0.5 * (L - L.transpose());
+      trace_D = D.trace();
+      const Mat3 sigma_old = e.sigma(k);
+      elastic_update(mat, D, W, dt, e.S_e[k], e.p_e[k]);
+      e.q_e[k] = bulk_viscosity(rho, length, c, trace_D, fem);
+      const Mat3 sigma_mid = 0.5 * (sigma_old + e.sigma(k));
+      e.e_int_e[k] += dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
+    }
+    e.V_e[k] = g.volume;
+
+    // Internal force on node I: −σ b_I; plus hourglass resistance on the γ modes.
+    const Mat3 sigma = e.sigma(k);
+    const auto gamma = hex8_hourglass_shape(x1, g);
+    std::array<Vec3, 4> mode;
+    for (int a = 0; a < 4; ++a) {
+      mode[a].setZero();
+      for (int I = 0; I < 8; ++I)
+        mode[a] += gamma[a][I] * v[I];
+    }
+    // The mode forces of the last update acted over this step: their work, with the mode
+    // velocity averaged over the step, is the hourglass energy (exact leap-frog accounting).
+    auto& resist = e.hg_e[k];
+    double hourglass_work = 0;
+    for (int a = 0; a < 4; ++a)
+      hourglass_work += resist[a].dot(0.5 * (e.hg_mode_e[k][a] + mode[a]));
+    e.e_hg_e[k] += dt * hourglass_work;
+    if (stiffness) {
+      const double k_hg = fem.hourglass_coefficient * mat.p_wave_modulus() * std::cbrt(g.volume) / 4.0;
+      for (int a = 0; a < 4; ++a)
+        resist[a] += dt * k_hg * mode[a];
+    } else {
+      const double c_hg = fem.hourglass_coefficient * rho * c * std::pow(g.volume, 2.0 / 3.0) / 4.0;
+      for (int a = 0; a < 4; ++a)
+        resist[a] = c_hg * mode[a];
+    }
+    e.hg_mode_e[k] = mode;
+    for (int I = 0; I < 8; ++I) {
+      Vec3 f_hg = Vec3::Zero();
+      for (int a = 0; a < 4; ++a)
+        f_hg -= gamma[a][I] * resist[a];
+      e.f_e[k][I] = -(sigma * g.b[I]) + f_hg;
+    }
+
+    const double Q = trace_D < 0 ? fem.bulk_viscosity_linear * c +
+                                       fem.bulk_viscosity_quadratic * length * std::abs(trace_D)
+                                 : 0.0;
+    dt_min = std::min(dt_min, length / (Q + std::sqrt(Q * Q + c * c)));
+  }
+  SPHFEM_CHECK(first_inverted == n, "element ", first_inverted,
+               " inverted (non-positive volume): the mesh tangled; reduce time.cfl or refine");
+  return dt_min;
+}
+
+} // namespace sphfem

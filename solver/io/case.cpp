@@ -1,0 +1,21 @@
+// Look-ups by name on a validated Case.
+#include "solver/io/case.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <algorithm>
+
+namespace sphfem {
+
+const MaterialSpec& Case::material(const std::string& name) const {
+  const auto found = std::ranges::find(materials, name, &MaterialSpec::name);
+  SPHFEM_CHECK(found != materials.end(), "case '", this->name, "' has no material '", name, "'");
+  return *found;
+}
+
+int Case::body_index(const std::string& name) const {
+  const auto found = std::ranges::find(bodies, name, &BodySpec::name);
+  return found == bodies.end() ? -1 : static_cast<int>(found - bodies.begin());
+}
+
+} // namespace sphfem

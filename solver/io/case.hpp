@@ -1,0 +1,116 @@
+// The case as parsed and validated: everything a run needs, in SI units. Built only by
+// read_case() (solver/io/case_reader.hpp), so every instance has passed validation.
+#pragma once
+
+#include "solver/core/time_function.hpp"
+#include "solver/core/types.hpp"
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sphfem {
+
+struct MaterialSpec {
+  std::string name;
+  std::string model; // "elastic"
+  double density = 0;       // kg/m³
+  double youngs_modulus = 0; // Pa
+  double poisson_ratio = 0;
+};
+
+struct BoxGeometry {
+  Vec3 min = Vec3::Zero(), max = Vec3::Zero();
+};
+
+// A circular cylinder: base centre, axis vector (its length is the cylinder's length), radius.
+struct CylinderGeometry {
+  Vec3 base = Vec3::Zero();
+  Vec3 axis = Vec3::UnitZ();
+  double radius = 0;
+};
+
+struct GeometrySpec {
+  enum class Kind { Box, Cylinder };
+  Kind kind = Kind::Box;
+  BoxGeometry box;
+  CylinderGeometry cylinder;
+};
+
+enum class Method { Fem };
+
+// Named faces: a box has xmin, xmax, ymin, ymax, zmin, zmax; a cylinder has base, top, side.
+struct BodySpec {
+  std::string name;
+  Method method = Method::Fem;
+  GeometrySpec geometry;
+  double element_size = 0; // m
+  std::string material;
+  Vec3 velocity = Vec3::Zero(); // initial velocity, m/s
+};
+
+enum class BoundaryType { Fixed, Velocity, Symmetry };
+
+struct BoundaryConditionSpec {
+  BoundaryType type = BoundaryType::Fixed;
+  std::string body;
+  std::string face;
+  // Velocity only: prescribed components (m/s), scaled by `function`; empty = free.
+  std::array<std::optional<double>, 3> velocity;
+  TimeFunction function;
+};
+
+// Uniform pressure (Pa, positive pushes into the body) on a named face, scaled by `function`.
+struct PressureLoadSpec {
+  std::string body;
+  std::string face;
+  double pressure = 0;
+  TimeFunction function;
+};
+
+struct TimeSpec {
+  double end = 0;             // s
+  double cfl = 0.9;           // fraction of the critical step
+  double output_interval = 0; // s between frames
+  double history_interval = 0; // s between history rows; 0 = every step
+};
+
+// Recorded at the body's node nearest to `point`.
+struct ProbeSpec {
+  std::string name;
+  std::string body;
+  Vec3 point = Vec3::Zero();
+};
+
+enum class HourglassForm { Viscous, Stiffness };
+
+struct FemSpec {
+  HourglassForm hourglass_form = HourglassForm::Viscous;
+  double hourglass_coefficient = 0.1;
+  double bulk_viscosity_linear = 0.06;   // C1
+  double bulk_viscosity_quadratic = 1.5; // C0
+};
+
+struct OutputSpec {
+  bool frames = true;
+};
+
+struct Case {
+  std::string name;
+  std::filesystem::path file; // the case file it was read from
+  TimeSpec time;
+  std::vector<MaterialSpec> materials;
+  std::vector<BodySpec> bodies;
+  std::vector<BoundaryConditionSpec> boundary_conditions;
+  std::vector<PressureLoadSpec> loads;
+  std::vector<ProbeSpec> probes;
+  FemSpec fem;
+  OutputSpec output;
+
+  const MaterialSpec& material(const std::string& name) const;
+  int body_index(const std::string& name) const; // -1 if absent
+};
+
+} // namespace sphfem

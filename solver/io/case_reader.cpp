@@ -1,0 +1,635 @@
+// Case-file reader: parse the YAML, apply --set overrides, then walk the tree with a Reader
+// that knows each node's key path, so every check reports "<where>: <key.path>: <problem>".
+#include "solver/io/case_reader.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+#include <utility>
+
+namespace sphfem {
+namespace {
+
+using Names = std::vector<std::string_view>;
+
+std::string join(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+// True if `path` is `prefix` or lies below it: "a.b.c" is under "a.b", "a.bc" is not.
+bool is_under(const std::string& path, const std::string& prefix) {
+  return path.starts_with(prefix) && (path.size() == prefix.size() || path[prefix.size()] == '.');
+}
+
+std::string comma_list(const Names& names) {
+  std::string out;
+  for (const std::string_view name : names)
+    out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+// Letters, digits, '_' and any of `extra`.
+bool is_name(const std::string& text, std::string_view extra) {
+  return !text.empty() && std::ranges::all_of(text, [extra](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
+           extra.find(c) != std::string_view::npos;
+  });
+}
+
+std::string line_of(const YAML::Mark& mark) {
+  return std::to_string(std::max(mark.line, 0) + 1);
+}
+
+// How a node reads in a message: a scalar as written (quoted if it was), else its kind.
+std::string describe(const YAML::Node& node) {
+  switch (node.Type()) {
+  case YAML::NodeType::Scalar:
+    return node.Tag() == "!" ? '"' + node.Scalar() + '"' : node.Scalar();
+  case YAML::NodeType::Sequence:
+    return "a list of " + std::to_string(node.size());
+  case YAML::NodeType::Map:
+    return "a map";
+  default:
+    return "null";
+  }
+}
+
+std::string format(const Vec3& v) {
+  std::ostringstream out;
+  out << '[' << v.x() << ", " << v.y() << ", " << v.z() << ']';
+  return out.str();
+}
+
+Names face_names(GeometrySpec::Kind kind) {
+  if (kind == GeometrySpec::Kind::Box)
+    return {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  return {"base", "top", "side"};
+}
+
+constexpr auto positive = [](double v) { return v > 0; };
+constexpr auto non_negative = [](double v) { return v >= 0; };
+
+// ---- Overrides ---------------------------------------------------------------------------
+
+[[noreturn]] void bad_override(const std::string& text, const std::string& what) {
+  throw Error("--set " + text + ": " + what);
+}
+
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> keys;
+  std::istringstream in(path);
+  for (std::string key; std::getline(in, key, '.');)
+    keys.push_back(key);
+  if (path.empty() || path.back() == '.')
+    keys.emplace_back();
+  return keys;
+}
+
+// How many places in `tree` hold `target`: more than one if YAML aliases share it. `above`
+// holds the ancestors of `tree`, so that an alias to an ancestor is not followed.
+int holders(const YAML::Node& tree, const YAML::Node& target, std::vector<YAML::Node>& above) {
+  if (tree.is(target))
+    return 1;
+  if (std::ranges::any_of(above, [&tree](const YAML::Node& node) { return node.is(tree); }))
+    return 0;
+  above.push_back(tree);
+  int count = 0;
+  if (tree.IsMap())
+    for (const auto& pair : tree)
+      count += holders(pair.second, target, above);
+  if (tree.IsSequence())
+    for (const YAML::Node& item : tree)
+      count += holders(item, target, above);
+  above.pop_back();
+  return count;
+}
+
+// `slot`, unless YAML aliases share it (then overriding it would change them too).
+YAML::Node unshared(const YAML::Node& root, const YAML::Node& slot, const std::string& path,
+                    const std::string& text) {
+  std::vector<YAML::Node> above;
+  if (slot.IsDefined() && holders(root, slot, above) > 1)
+    bad_override(text, path + " is shared with other keys through a YAML alias");
+  return slot;
+}
+
+// The child of `node` at `key` for an override: a list element by index, or a map entry (added,
+// still undefined, if absent). Extends `path` with the key. Assigning to it writes into the node
+// in place, so the child must not be one that YAML aliases share elsewhere in `root`.
+YAML::Node override_slot(const YAML::Node& root, YAML::Node& node, const std::string& key,
+                         std::string& path, const std::string& text) {
+  const std::string here = path.empty() ? "the top level" : path;
+  if (node.IsSequence()) {
+    std::size_t index = 0;
+    const char* end = key.data() + key.size();
+    if (const auto [stop, error] = std::from_chars(key.data(), end, index);
+        error != std::errc{} || stop != end)
+      bad_override(text, here + " is a list, so '" + key + "' must be an index");
+    if (index >= node.size())
+      bad_override(text, "index " + key + " out of range (" + here + " has " +
+                             std::to_string(node.size()) + " entries)");
+    path = join(path, std::to_string(index));
+    return unshared(root, node[index], path, text);
+  }
+  if (!node.IsMap() && !node.IsNull())
+    bad_override(text, here + " is a single value (" + describe(node) + "), not a map or a list");
+  path = join(path, key);
+  return unshared(root, node[key], path, text);
+}
+
+// Applies one "key.path=value" override to the tree in place; returns its key path.
+std::string apply_override(YAML::Node& root, const std::string& text) {
+  const std::size_t equals = text.find('=');
+  if (equals == std::string::npos)
+    bad_override(text, "expected key.path=value");
+  const std::vector<std::string> keys = split_path(text.substr(0, equals));
+  if (std::ranges::any_of(keys, &std::string::empty))
+    bad_override(text, "empty key in the key path");
+  YAML::Node value;
+  try {
+    value = YAML::Load(text.substr(equals + 1));
+  } catch (const YAML::ParserException& e) {
+    bad_override(text, "YAML syntax error in the value: " + e.msg);
+  }
+  YAML::Node node = root;
+  std::string path;
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+    YAML::Node next = override_slot(root, node, keys[i], path, text);
+    if (!next.IsDefined())
+      next = YAML::Node(YAML::NodeType::Map);
+    node.reset(next);
+  }
+  override_slot(root, node, keys.back(), path, text) = value;
+  return path;
+}
+
+// ---- Validation --------------------------------------------------------------------------
+
+// A node and its key path ("bodies.bar.geometry"; list entries by index, "probes.0").
+struct Located {
+  YAML::Node node;
+  std::string path;
+};
+
+// A map entry; key and value are both located at the entry's path.
+struct Entry {
+  std::string name;
+  Located key, value;
+};
+
+class Reader {
+public:
+  Reader(std::string file, std::vector<std::string> overrides)
+      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+
+  Case read(const YAML::Node& root) const;
+
+private:
+  std::string file_;
+  std::vector<std::string> overrides_; // key paths set by --set, in the order applied
+
+  // "--set <path>" if the last override covering the node supplied or created it, else
+  // "<file>:<line>".
+  std::string where(const Located& at) const {
+    const auto covers = [&at](const std::string& set) { return is_under(at.path, set); };
+    const auto created = [&at](const std::string& set) { return is_under(set, at.path); };
+    for (auto set = overrides_.rbegin(); set != overrides_.rend(); ++set)
+      if (covers(*set) || (at.node.Mark().is_null() && created(*set)))
+        return "--set " + *set;
+    return file_ + ":" + line_of(at.node.Mark());
+  }
+
+  // Reports `what` at `at`'s location, under the key path `path`.
+  [[noreturn]] void fail(const Located& at, const std::string& path,
+                         const std::string& what) const {
+    throw Error(where(at) + ": " + (path.empty() ? "(top level)" : path) + ": " + what);
+  }
+  [[noreturn]] void fail(const Located& at, const std::string& what) const {
+    fail(at, at.path, what);
+  }
+
+  // Structure.
+  std::vector<Entry> entries(const Located& map) const;
+  void check_map(const Located& map, const Names& allowed) const;
+  std::vector<Entry> named_entries(const Located& map, std::string_view what) const;
+  std::vector<Located> items(const Located& list) const;
+  Located child(const Located& map, const std::string& key) const;
+  Located required(const Located& map, const std::string& key, std::string_view meaning) const;
+
+  // Values.
+  double number(const Located& at) const;
+  template <class Ok> double number(const Located& at, std::string_view rule, Ok ok) const;
+  template <class Ok>
+  double number_or(const Located& map, const std::string& key, double fallback,
+                   std::string_view rule, Ok ok) const;
+  std::string text(const Located& at) const;
+  std::string one_of(const Located& at, const Names& names, std::string_view what) const;
+  template <class T>
+  T choice(const Located& at, std::string_view what,
+           std::initializer_list<std::pair<std::string_view, T>> options) const;
+  Vec3 vec3(const Located& at) const;
+  TimeFunction time_function(const Located& at) const;
+
+  // Sections.
+  TimeSpec time(const Located& at) const;
+  MaterialSpec material(const Entry& entry) const;
+  BodySpec body(const Entry& entry, const std::vector<MaterialSpec>& materials) const;
+  GeometrySpec geometry(const Located& at) const;
+  const BodySpec& body_ref(const Located& item, const std::vector<BodySpec>& bodies) const;
+  BoundaryConditionSpec boundary_condition(const Located& at, const Case& c) const;
+  PressureLoadSpec load(const Located& at, const Case& c) const;
+  std::vector<ProbeSpec> probes(const Located& at, const Case& c) const;
+  FemSpec fem(const Located& at) const;
+  OutputSpec output(const Located& at) const;
+};
+
+// The entries of a map in file order; keys must be single values and appear once.
+std::vector<Entry> Reader::entries(const Located& map) const {
+  if (!map.node.IsMap())
+    fail(map, "must be a map, got " + describe(map.node));
+  std::vector<Entry> out;
+  for (const auto& pair : map.node) {
+    if (!pair.first.IsScalar())
+      fail(map, "keys must be names, got " + describe(pair.first));
+    const std::string name = pair.first.Scalar();
+    const Entry entry{
+        name, {pair.first, join(map.path, name)}, {pair.second, join(map.path, name)}};
+    if (const auto first = std::ranges::find(out, name, &Entry::name); first != out.end())
+      fail(entry.key, "duplicate key (first given at " + where(first->key) + ")");
+    out.push_back(entry);
+  }
+  return out;
+}
+
+// A closed map: only the `allowed` keys.
+void Reader::check_map(const Located& map, const Names& allowed) const {
+  for (const Entry& entry : entries(map))
+    if (std::ranges::find(allowed, entry.name) == allowed.end())
+      fail(entry.key, "unknown key (expected one of: " + comma_list(allowed) + ")");
+}
+
+// A map from user-chosen names (materials, bodies) to definitions; at least one.
+std::vector<Entry> Reader::named_entries(const Located& map, std::string_view what) const {
+  std::vector<Entry> out = entries(map);
+  if (out.empty())
+    fail(map, "must define at least one " + std::string(what));
+  for (const Entry& entry : out)
+    if (!is_name(entry.name, ""))
+      fail(entry.key, "invalid " + std::string(what) + " name (use letters, digits and _)");
+  return out;
+}
+
+std::vector<Located> Reader::items(const Located& list) const {
+  if (!list.node.IsSequence())
+    fail(list, "must be a list, got " + describe(list.node));
+  std::vector<Located> out;
+  for (const YAML::Node& item : list.node)
+    out.push_back({item, join(list.path, std::to_string(out.size()))});
+  return out;
+}
+
+// The value at `key` in a map already checked by check_map(); undefined when absent.
+Located Reader::child(const Located& map, const std::string& key) const {
+  return {std::as_const(map.node)[key], join(map.path, key)};
+}
+
+Located Reader::required(const Located& map, const std::string& key,
+                         std::string_view meaning) const {
+  Located at = child(map, key);
+  if (!at.node.IsDefined())
+    fail(map, at.path, "missing key (" + std::string(meaning) + ")");
+  return at;
+}
+
+double Reader::number(const Located& at) const {
+  double value = 0;
+  if (!at.node.IsScalar() || at.node.Tag() == "!" || !YAML::convert<double>::decode(at.node, value))
+    fail(at, "must be a number, got " + describe(at.node));
+  if (!std::isfinite(value))
+    fail(at, "must be a finite number, got " + describe(at.node));
+  return value;
+}
+
+// A number satisfying `ok`; `rule` says how, for the message ("> 0 kg/m³").
+template <class Ok> double Reader::number(const Located& at, std::string_view rule, Ok ok) const {
+  const double value = number(at);
+  if (!ok(value))
+    fail(at, "must be " + std::string(rule) + ", got " + describe(at.node));
+  return value;
+}
+
+template <class Ok>
+double Reader::number_or(const Located& map, const std::string& key, double fallback,
+                         std::string_view rule, Ok ok) const {
+  const Located at = child(map, key);
+  return at.node.IsDefined() ? number(at, rule, ok) : fallback;
+}
+
+std::string Reader::text(const Located& at) const {
+  if (!at.node.IsScalar())
+    fail(at, "must be a string, got " + describe(at.node));
+  return at.node.Scalar();
+}
+
+std::string Reader::one_of(const Located& at, const Names& names, std::string_view what) const {
+  std::string value = text(at);
+  if (std::ranges::find(names, value) == names.end())
+    fail(at, "unknown " + std::string(what) + " '" + value +
+                 "' (expected one of: " + comma_list(names) + ")");
+  return value;
+}
+
+template <class T>
+T Reader::choice(const Located& at, std::string_view what,
+                 std::initializer_list<std::pair<std::string_view, T>> options) const {
+  Names names;
+  for (const auto& option : options)
+    names.push_back(option.first);
+  const std::string value = one_of(at, names, what);
+  return std::ranges::find(options, value, &std::pair<std::string_view, T>::first)->second;
+}
+
+Vec3 Reader::vec3(const Located& at) const {
+  if (!at.node.IsSequence() || at.node.size() != 3)
+    fail(at, "must be a list of 3 numbers [x, y, z], got " + describe(at.node));
+  const std::vector<Located> xyz = items(at);
+  return {number(xyz[0]), number(xyz[1]), number(xyz[2])};
+}
+
+// A piecewise-linear table [[t, f], ...]: at least one row, times >= 0, strictly increasing.
+TimeFunction Reader::time_function(const Located& at) const {
+  const std::vector<Located> rows = items(at);
+  if (rows.empty())
+    fail(at, "must have at least one row [t, f]");
+  std::vector<std::pair<double, double>> table;
+  std::string previous; // the previous time, as written
+  for (const Located& row : rows) {
+    if (!row.node.IsSequence() || row.node.size() != 2)
+      fail(row, "must be a row [t, f] of 2 numbers, got " + describe(row.node));
+    const std::vector<Located> cells = items(row);
+    const double t = number(cells[0], ">= 0 s (negative times are not allowed)", non_negative);
+    if (!table.empty() && t <= table.back().first)
+      fail(cells[0], "times must be strictly increasing, got " + describe(cells[0].node) +
+                         " after " + previous);
+    previous = describe(cells[0].node);
+    table.emplace_back(t, number(cells[1]));
+  }
+  return TimeFunction(std::move(table));
+}
+
+TimeSpec Reader::time(const Located& at) const {
+  check_map(at, {"end", "cfl", "output_interval", "history_interval"});
+  TimeSpec spec;
+  spec.end = number(required(at, "end", "end time, s"), "> 0 s", positive);
+  spec.cfl = number_or(at, "cfl", spec.cfl, "in (0, 1]", [](double v) { return v > 0 && v <= 1; });
+  spec.output_interval =
+      number(required(at, "output_interval", "time between output frames, s"), "> 0 s", positive);
+  spec.history_interval =
+      number_or(at, "history_interval", spec.history_interval, ">= 0 s", non_negative);
+  return spec;
+}
+
+MaterialSpec Reader::material(const Entry& entry) const {
+  const Located& at = entry.value;
+  check_map(at, {"model", "density", "youngs_modulus", "poisson_ratio"});
+  MaterialSpec spec;
+  spec.name = entry.name;
+  spec.model = one_of(required(at, "model", "material model: elastic"), {"elastic"}, "model");
+  spec.density = number(required(at, "density", "mass density, kg/m³"), "> 0 kg/m³", positive);
+  spec.youngs_modulus =
+      number(required(at, "youngs_modulus", "Young's modulus, Pa"), "> 0 Pa", positive);
+  spec.poisson_ratio = number(required(at, "poisson_ratio", "Poisson's ratio"), "in (-1, 0.5)",
+                              [](double v) { return v > -1 && v < 0.5; });
+  return spec;
+}
+
+GeometrySpec Reader::geometry(const Located& at) const {
+  check_map(at, {"box", "cylinder"});
+  const Located box = child(at, "box");
+  const Located cylinder = child(at, "cylinder");
+  if (box.node.IsDefined() == cylinder.node.IsDefined())
+    fail(at, "must have exactly one of: box, cylinder");
+  GeometrySpec spec;
+  if (box.node.IsDefined()) {
+    check_map(box, {"min", "max"});
+    spec.kind = GeometrySpec::Kind::Box;
+    spec.box.min = vec3(required(box, "min", "lower corner [x, y, z], m"));
+    spec.box.max = vec3(required(box, "max", "upper corner [x, y, z], m"));
+    if (!(spec.box.max.array() > spec.box.min.array()).all())
+      fail(box, "empty geometry: max must exceed min in every component, got min " +
+                    format(spec.box.min) + ", max " + format(spec.box.max));
+    return spec;
+  }
+  check_map(cylinder, {"base", "axis", "radius"});
+  spec.kind = GeometrySpec::Kind::Cylinder;
+  spec.cylinder.base = vec3(required(cylinder, "base", "centre of the base [x, y, z], m"));
+  const Located axis = required(cylinder, "axis", "axis from base to top [x, y, z], m");
+  spec.cylinder.axis = vec3(axis);
+  if (!(spec.cylinder.axis.norm() > 0))
+    fail(axis, "empty geometry: the axis must have a non-zero length");
+  spec.cylinder.radius =
+      number(required(cylinder, "radius", "radius, m"), "> 0 m (empty geometry)", positive);
+  return spec;
+}
+
+BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& materials) const {
+  const Located& at = entry.value;
+  check_map(at, {"method", "geometry", "element_size", "material", "velocity"});
+  BodySpec spec;
+  spec.name = entry.name;
+  spec.method = choice<Method>(required(at, "method", "discretisation: fem"), "method",
+                               {{"fem", Method::Fem}});
+  spec.geometry = geometry(required(at, "geometry", "box or cylinder"));
+  spec.element_size =
+      number(required(at, "element_size", "element edge length, m"), "> 0 m", positive);
+  Names material_names;
+  for (const MaterialSpec& material : materials)
+    material_names.push_back(material.name);
+  spec.material =
+      one_of(required(at, "material", "name of a material"), material_names, "material");
+  if (const Located velocity = child(at, "velocity"); velocity.node.IsDefined())
+    spec.velocity = vec3(velocity);
+  return spec;
+}
+
+// The body named by `item`'s required "body" key.
+const BodySpec& Reader::body_ref(const Located& item, const std::vector<BodySpec>& bodies) const {
+  Names names;
+  for (const BodySpec& body : bodies)
+    names.push_back(body.name);
+  const std::string name = one_of(required(item, "body", "name of a body"), names, "body");
+  return *std::ranges::find(bodies, name, &BodySpec::name);
+}
+
+BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& c) const {
+  check_map(at, {"type", "body", "face", "velocity", "function"});
+  BoundaryConditionSpec spec;
+  spec.type = choice<BoundaryType>(required(at, "type", "fixed, velocity or symmetry"),
+                                   "boundary condition type",
+                                   {{"fixed", BoundaryType::Fixed},
+                                    {"velocity", BoundaryType::Velocity},
+                                    {"symmetry", BoundaryType::Symmetry}});
+  const BodySpec& body = body_ref(at, c.bodies);
+  spec.body = body.name;
+  spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
+  const Located velocity = child(at, "velocity");
+  const Located function = child(at, "function");
+  if (spec.type != BoundaryType::Velocity) {
+    for (const Located& velocity_only : {velocity, function})
+      if (velocity_only.node.IsDefined())
+        fail(velocity_only, "only allowed for type velocity");
+    return spec;
+  }
+  const Located given = required(at, "velocity", "[vx, vy, vz] in m/s, ~ for a free component");
+  if (!given.node.IsSequence() || given.node.size() != 3)
+    fail(given, "must be a list of 3 entries [vx, vy, vz], each a number or ~, got " +
+                    describe(given.node));
+  const std::vector<Located> components = items(given);
+  for (std::size_t i = 0; i < 3; ++i)
+    if (!components[i].node.IsNull())
+      spec.velocity[i] = number(components[i]);
+  if (std::ranges::none_of(spec.velocity, [](const auto& v) { return v.has_value(); }))
+    fail(given, "must prescribe at least one component, got [~, ~, ~]");
+  if (function.node.IsDefined())
+    spec.function = time_function(function);
+  return spec;
+}
+
+PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
+  check_map(at, {"type", "body", "face", "pressure", "function"});
+  one_of(required(at, "type", "load type: pressure"), {"pressure"}, "load type");
+  PressureLoadSpec spec;
+  const BodySpec& body = body_ref(at, c.bodies);
+  spec.body = body.name;
+  spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
+  spec.pressure = number(required(at, "pressure", "pressure, Pa, positive pushes into the body"));
+  if (const Located function = child(at, "function"); function.node.IsDefined())
+    spec.function = time_function(function);
+  return spec;
+}
+
+std::vector<ProbeSpec> Reader::probes(const Located& at, const Case& c) const {
+  std::vector<ProbeSpec> out;
+  for (const Located& item : items(at)) {
+    check_map(item, {"name", "body", "point"});
+    ProbeSpec spec;
+    const Located name = required(item, "name", "probe name");
+    spec.name = text(name);
+    if (!is_name(spec.name, ""))
+      fail(name, "invalid probe name '" + spec.name + "' (use letters, digits and _)");
+    if (std::ranges::find(out, spec.name, &ProbeSpec::name) != out.end())
+      fail(name, "duplicate probe name '" + spec.name + "'");
+    spec.body = body_ref(item, c.bodies).name;
+    spec.point = vec3(required(item, "point", "position [x, y, z], m"));
+    out.push_back(spec);
+  }
+  return out;
+}
+
+FemSpec Reader::fem(const Located& at) const {
+  check_map(at, {"hourglass", "bulk_viscosity"});
+  FemSpec spec;
+  if (const Located hourglass = child(at, "hourglass"); hourglass.node.IsDefined()) {
+    check_map(hourglass, {"form", "coefficient"});
+    if (const Located form = child(hourglass, "form"); form.node.IsDefined())
+      spec.hourglass_form = choice<HourglassForm>(
+          form, "hourglass form",
+          {{"viscous", HourglassForm::Viscous}, {"stiffness", HourglassForm::Stiffness}});
+    spec.hourglass_coefficient =
+        number_or(hourglass, "coefficient", spec.hourglass_coefficient, ">= 0", non_negative);
+  }
+  if (const Located bulk = child(at, "bulk_viscosity"); bulk.node.IsDefined()) {
+    check_map(bulk, {"linear", "quadratic"});
+    spec.bulk_viscosity_linear =
+        number_or(bulk, "linear", spec.bulk_viscosity_linear, ">= 0", non_negative);
+    spec.bulk_viscosity_quadratic =
+        number_or(bulk, "quadratic", spec.bulk_viscosity_quadratic, ">= 0", non_negative);
+  }
+  return spec;
+}
+
+OutputSpec Reader::output(const Located& at) const {
+  check_map(at, {"frames"});
+  OutputSpec spec;
+  if (const Located frames = child(at, "frames"); frames.node.IsDefined())
+    if (!frames.node.IsScalar() || frames.node.Tag() == "!" ||
+        !YAML::convert<bool>::decode(frames.node, spec.frames))
+      fail(frames, "must be true or false, got " + describe(frames.node));
+  return spec;
+}
+
+Case Reader::read(const YAML::Node& node) const {
+  const Located root{node, ""};
+  check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
+                   "fem", "output"});
+  Case c;
+  const Located name = required(root, "name", "case name");
+  c.name = text(name);
+  if (!is_name(c.name, "-."))
+    fail(name, "invalid case name '" + c.name + "' (use letters, digits, _, - and .)");
+  c.time = time(required(root, "time", "time control: end, output_interval"));
+  for (const Entry& entry :
+       named_entries(required(root, "materials", "materials by name"), "material"))
+    c.materials.push_back(material(entry));
+  for (const Entry& entry : named_entries(required(root, "bodies", "bodies by name"), "body"))
+    c.bodies.push_back(body(entry, c.materials));
+  if (const Located list = child(root, "boundary_conditions"); list.node.IsDefined())
+    for (const Located& item : items(list))
+      c.boundary_conditions.push_back(boundary_condition(item, c));
+  if (const Located list = child(root, "loads"); list.node.IsDefined())
+    for (const Located& item : items(list))
+      c.loads.push_back(load(item, c));
+  if (const Located list = child(root, "probes"); list.node.IsDefined())
+    c.probes = probes(list, c);
+  if (const Located section = child(root, "fem"); section.node.IsDefined())
+    c.fem = fem(section);
+  if (const Located section = child(root, "output"); section.node.IsDefined())
+    c.output = output(section);
+  return c;
+}
+
+} // namespace
+
+Case read_case_text(const std::string& yaml_text, const std::filesystem::path& file,
+                    const std::vector<std::string>& overrides) {
+  const std::string name = file.string();
+  try {
+    YAML::Node root = YAML::Load(yaml_text);
+    std::vector<std::string> override_paths;
+    for (const std::string& text : overrides)
+      override_paths.push_back(apply_override(root, text));
+    Case result = Reader(name, std::move(override_paths)).read(root);
+    result.file = file;
+    return result;
+  } catch (const Error&) {
+    throw;
+  } catch (const YAML::ParserException& e) {
+    throw Error(name + ":" + line_of(e.mark) + ": YAML syntax error: " + e.msg);
+  } catch (const std::exception& e) {
+    throw Error(name + ": cannot read the case: " + e.what());
+  }
+}
+
+Case read_case(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(file, ignored))
+    throw Error(file.string() + ": cannot open the case file (it is a directory)");
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw Error(file.string() + ": cannot open the case file (" + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return read_case_text(text.str(), file, overrides);
+}
+
+} // namespace sphfem

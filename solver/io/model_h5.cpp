@@ -1,0 +1,367 @@
+// Writes and reads model.h5 (layout in model_h5.hpp) with HDF5's C++ API; every HDF5 failure
+// or malformed content becomes a sphfem::Error naming the file. Verified by
+// tests/io/model_h5_test.cpp.
+#include "solver/io/model_h5.hpp"
+
+#include "solver/core/error.hpp"
+#include "solver/io/atomic_file.hpp"
+
+#include <H5Cpp.h>
+
+#include <algorithm>
+#include <array>
+#include <system_error>
+
+#ifndef SPHFEM_VERSION
+#define SPHFEM_VERSION "0.1.0"
+#endif
+
+namespace sphfem {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* format_name = "sphfem-model";
+constexpr int format_version = 1;
+constexpr hsize_t chunk_rows = 16384; // datasets longer than this are chunked and compressed
+
+// HDF5 types per C++ element type: in memory, in the file, and the class a reader accepts.
+template <class T> struct H5Type;
+template <> struct H5Type<double> {
+  static const H5::PredType& memory() { return H5::PredType::NATIVE_DOUBLE; }
+  static const H5::PredType& file() { return H5::PredType::IEEE_F64LE; }
+  static constexpr H5T_class_t type_class = H5T_FLOAT;
+};
+template <> struct H5Type<Index> {
+  static const H5::PredType& memory() { return H5::PredType::NATIVE_INT32; }
+  static const H5::PredType& file() { return H5::PredType::STD_I32LE; }
+  static constexpr H5T_class_t type_class = H5T_INTEGER;
+};
+
+// While alive, HDF5 prints nothing and keeps the innermost description of its first failure
+// (e.g. "truncated file: eof = …") for our message.
+class Hdf5Errors {
+public:
+  Hdf5Errors() {
+    H5Eget_auto2(H5E_DEFAULT, &saved_, &saved_data_);
+    H5Eset_auto2(H5E_DEFAULT, &Hdf5Errors::record, &first_);
+  }
+  ~Hdf5Errors() { H5Eset_auto2(H5E_DEFAULT, saved_, saved_data_); }
+  Hdf5Errors(const Hdf5Errors&) = delete;
+  Hdf5Errors& operator=(const Hdf5Errors&) = delete;
+
+  std::string describe(const H5::Exception& e) const {
+    return first_.empty() ? e.getFuncName() + ": " + e.getDetailMsg() : first_;
+  }
+
+private:
+  static herr_t record(hid_t stack, void* first) {
+    if (static_cast<std::string*>(first)->empty())
+      H5Ewalk2(stack, H5E_WALK_UPWARD, &innermost, first);
+    return 0;
+  }
+  static herr_t innermost(unsigned n, const H5E_error2_t* error, void* first) {
+    if (n == 0 && error->desc != nullptr)
+      *static_cast<std::string*>(first) = error->desc;
+    return 0;
+  }
+
+  H5E_auto2_t saved_ = nullptr;
+  void* saved_data_ = nullptr;
+  std::string first_;
+};
+
+H5::StrType string_type() {
+  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  type.setCset(H5T_CSET_UTF8);
+  return type;
+}
+
+// ---- writing ------------------------------------------------------------------------------
+
+void write_attribute(const H5::H5Object& object, const std::string& name,
+                     const std::string& value) {
+  const H5::StrType type = string_type();
+  object.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
+}
+
+void write_attribute(const H5::H5Object& object, const std::string& name, int value) {
+  object.createAttribute(name, H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
+      .write(H5::PredType::NATIVE_INT, &value);
+}
+
+// Writes `values` as a rows × cols dataset (1-D when cols == 0) at `path` below `parent`,
+// creating intermediate groups.
+template <class T>
+H5::DataSet write_array(const H5::Group& parent, const std::string& path,
+                        const std::vector<T>& values, hsize_t cols = 0) {
+  const hsize_t rows = values.size() / std::max<hsize_t>(cols, 1);
+  const std::array<hsize_t, 2> dims{rows, cols};
+  const H5::DataSpace space(cols == 0 ? 1 : 2, dims.data());
+  H5::DSetCreatPropList create;
+  if (rows > chunk_rows) {
+    const std::array<hsize_t, 2> chunk{chunk_rows, cols};
+    create.setChunk(cols == 0 ? 1 : 2, chunk.data());
+    create.setShuffle();
+    create.setDeflate(4);
+  }
+  H5::LinkCreatPropList link;
+  link.setCreateIntermediateGroup(true);
+  const H5::DataSet dataset = parent.createDataSet(path, H5Type<T>::file(), space, create,
+                                                   H5::DSetAccPropList::DEFAULT, link);
+  if (!values.empty())
+    dataset.write(values.data(), H5Type<T>::memory());
+  return dataset;
+}
+
+template <std::size_t C> std::vector<Index> flatten(const std::vector<std::array<Index, C>>& rows) {
+  std::vector<Index> flat;
+  flat.reserve(C * rows.size());
+  for (const auto& row : rows)
+    flat.insert(flat.end(), row.begin(), row.end());
+  return flat;
+}
+
+std::vector<double> flatten(const std::vector<Vec3>& points) {
+  std::vector<double> flat;
+  flat.reserve(3 * points.size());
+  for (const Vec3& p : points)
+    flat.insert(flat.end(), p.data(), p.data() + 3);
+  return flat;
+}
+
+void write_strings(const H5::Group& parent, const std::string& name,
+                   const std::vector<std::string>& strings) {
+  std::vector<const char*> pointers;
+  for (const std::string& s : strings)
+    pointers.push_back(s.c_str());
+  const hsize_t n = strings.size();
+  const H5::StrType type = string_type();
+  const H5::DataSet dataset = parent.createDataSet(name, type, H5::DataSpace(1, &n));
+  if (n > 0)
+    dataset.write(pointers.data(), type);
+}
+
+// A set name becomes an HDF5 path, so it must be a '/'-separated list of non-empty parts.
+void check_set_name(const std::string& name) {
+  const bool ok = !name.empty() && name.front() != '/' && name.back() != '/' &&
+                  name.find("//") == std::string::npos && name != ".";
+  SPHFEM_CHECK(ok, "set name '", name, "' cannot be stored");
+}
+
+template <class Sets> void write_sets(const H5::Group& group, const Sets& sets, hsize_t cols) {
+  for (const auto& [name, items] : sets) {
+    check_set_name(name);
+    if constexpr (std::is_same_v<typename Sets::mapped_type, std::vector<Index>>)
+      write_array(group, name, items);
+    else
+      write_array(group, name, flatten(items), cols);
+  }
+}
+
+void write_model(const H5::H5File& file, const Model& m) {
+  SPHFEM_CHECK(m.body_n.size() == m.x_n.size(), "node body ids do not match the nodes");
+  SPHFEM_CHECK(m.body_e.size() == m.hex_e.size(), "element body ids do not match the elements");
+  write_attribute(file, "format", format_name);
+  write_attribute(file, "format_version", format_version);
+  write_attribute(file, "generator", std::string("sphfem ") + SPHFEM_VERSION);
+  write_attribute(file, "units", "SI (m, kg, s)");
+  write_attribute(file, "signature", m.signature);
+
+  write_strings(file.createGroup("bodies"), "names", m.body_names);
+  const H5::Group nodes = file.createGroup("nodes");
+  write_attribute(write_array(nodes, "x", flatten(m.x_n), 3), "units", "m");
+  write_array(nodes, "body_id", m.body_n);
+  const H5::Group elements = file.createGroup("elements");
+  write_attribute(write_array(elements, "hex", flatten(m.hex_e), 8), "node_order",
+                  "gmsh hexahedron");
+  write_array(elements, "body_id", m.body_e);
+  write_sets(file.createGroup("node_sets"), m.node_sets, 0);
+  write_sets(file.createGroup("face_sets"), m.face_sets, 4);
+}
+
+// ---- reading ------------------------------------------------------------------------------
+
+std::string read_string_attribute(const H5::H5Object& object, const std::string& name) {
+  SPHFEM_CHECK(object.attrExists(name), "missing attribute '", name, "'");
+  const H5::Attribute attribute = object.openAttribute(name);
+  SPHFEM_CHECK(attribute.getTypeClass() == H5T_STRING, "attribute '", name, "' is not a string");
+  std::string value;
+  attribute.read(attribute.getStrType(), value);
+  return value;
+}
+
+int read_int_attribute(const H5::H5Object& object, const std::string& name) {
+  SPHFEM_CHECK(object.attrExists(name), "missing attribute '", name, "'");
+  const H5::Attribute attribute = object.openAttribute(name);
+  SPHFEM_CHECK(attribute.getTypeClass() == H5T_INTEGER &&
+                   attribute.getSpace().getSimpleExtentNpoints() == 1,
+               "attribute '", name, "' is not an integer");
+  int value = 0;
+  attribute.read(H5::PredType::NATIVE_INT, &value);
+  return value;
+}
+
+// Opens `path` (relative, '/'-separated) below `parent`, checking each link exists.
+H5::DataSet open_dataset(const H5::Group& parent, const std::string& path) {
+  for (std::size_t slash = path.find('/'); slash != std::string::npos;
+       slash = path.find('/', slash + 1))
+    SPHFEM_CHECK(parent.nameExists(path.substr(0, slash)), "missing group '", path.substr(0, slash),
+                 "'");
+  SPHFEM_CHECK(parent.nameExists(path) && parent.childObjType(path) == H5O_TYPE_DATASET,
+               "missing dataset '", path, "'");
+  return parent.openDataSet(path);
+}
+
+// Reads a rows × cols dataset (1-D when cols == 0), checking its type class and shape.
+template <class T>
+std::vector<T> read_array(const H5::Group& parent, const std::string& path, hsize_t cols = 0) {
+  const H5::DataSet dataset = open_dataset(parent, path);
+  SPHFEM_CHECK(dataset.getTypeClass() == H5Type<T>::type_class, "dataset '", path,
+               "' has the wrong type (expected ",
+               H5Type<T>::type_class == H5T_FLOAT ? "float" : "integer", ")");
+  const H5::DataSpace space = dataset.getSpace();
+  const int rank = cols == 0 ? 1 : 2;
+  std::array<hsize_t, 2> dims{0, 0};
+  SPHFEM_CHECK(space.getSimpleExtentNdims() == rank, "dataset '", path, "' must have rank ", rank);
+  space.getSimpleExtentDims(dims.data());
+  SPHFEM_CHECK(cols == 0 || dims[1] == cols, "dataset '", path, "' must have ", cols,
+               " columns, not ", dims[1]);
+  std::vector<T> values(dims[0] * std::max<hsize_t>(cols, 1));
+  if (!values.empty())
+    dataset.read(values.data(), H5Type<T>::memory());
+  return values;
+}
+
+template <std::size_t C>
+std::vector<std::array<Index, C>> read_rows(const H5::Group& parent, const std::string& path) {
+  const std::vector<Index> flat = read_array<Index>(parent, path, C);
+  std::vector<std::array<Index, C>> rows(flat.size() / C);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    std::copy_n(flat.begin() + static_cast<std::ptrdiff_t>(C * r), C, rows[r].begin());
+  return rows;
+}
+
+std::vector<Vec3> read_points(const H5::Group& parent, const std::string& path) {
+  const std::vector<double> flat = read_array<double>(parent, path, 3);
+  std::vector<Vec3> points(flat.size() / 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    points[i] = Vec3(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  return points;
+}
+
+std::vector<std::string> read_strings(const H5::Group& parent, const std::string& path) {
+  const H5::DataSet dataset = open_dataset(parent, path);
+  const H5::DataSpace space = dataset.getSpace();
+  SPHFEM_CHECK(dataset.getTypeClass() == H5T_STRING && space.getSimpleExtentNdims() == 1,
+               "dataset '", path, "' must be a list of strings");
+  const H5::StrType type = string_type();
+  std::vector<char*> raw(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
+  if (raw.empty())
+    return {};
+  dataset.read(raw.data(), type);
+  std::vector<std::string> strings(raw.begin(), raw.end());
+  H5::DataSet::vlenReclaim(raw.data(), type, space);
+  return strings;
+}
+
+// Dataset paths below `group`, relative to it, depth-first in name order.
+void list_datasets(const H5::Group& group, const std::string& prefix,
+                   std::vector<std::string>& paths) {
+  for (hsize_t i = 0; i < group.getNumObjs(); ++i) {
+    const std::string name = group.getObjnameByIdx(i);
+    const H5O_type_t type = group.childObjType(name);
+    if (type == H5O_TYPE_GROUP)
+      list_datasets(group.openGroup(name), prefix + name + "/", paths);
+    else if (type == H5O_TYPE_DATASET)
+      paths.push_back(prefix + name);
+  }
+}
+
+std::vector<std::string> set_names(const H5::Group& root, const std::string& group) {
+  SPHFEM_CHECK(root.nameExists(group), "missing group '", group, "'");
+  std::vector<std::string> names;
+  list_datasets(root.openGroup(group), "", names);
+  return names;
+}
+
+template <class Range>
+void check_indices(const Range& indices, std::size_t count, const std::string& what) {
+  for (const Index i : indices)
+    SPHFEM_CHECK(i >= 0 && static_cast<std::size_t>(i) < count, what, " holds index ", i,
+                 " outside [0, ", count, ")");
+}
+
+void check_header(const H5::H5File& file) {
+  const std::string format = read_string_attribute(file, "format");
+  SPHFEM_CHECK(format == format_name, "not an sphfem model (format '", format, "', expected '",
+               format_name, "')");
+  const int version = read_int_attribute(file, "format_version");
+  SPHFEM_CHECK(version == format_version, "format_version ", version,
+               " is not supported (this build reads version ", format_version, ")");
+}
+
+Model read_model(const H5::H5File& file) {
+  check_header(file);
+  Model m;
+  m.signature = read_string_attribute(file, "signature");
+  m.body_names = read_strings(file, "bodies/names");
+  m.x_n = read_points(file, "nodes/x");
+  m.body_n = read_array<Index>(file, "nodes/body_id");
+  m.hex_e = read_rows<8>(file, "elements/hex");
+  m.body_e = read_array<Index>(file, "elements/body_id");
+  SPHFEM_CHECK(m.body_n.size() == m.x_n.size(), "nodes/body_id has ", m.body_n.size(),
+               " entries for ", m.x_n.size(), " nodes");
+  SPHFEM_CHECK(m.body_e.size() == m.hex_e.size(), "elements/body_id has ", m.body_e.size(),
+               " entries for ", m.hex_e.size(), " elements");
+  check_indices(m.body_n, m.body_names.size(), "nodes/body_id");
+  check_indices(m.body_e, m.body_names.size(), "elements/body_id");
+  const std::size_t n = m.x_n.size();
+  for (const Hex& hex : m.hex_e)
+    check_indices(hex, n, "elements/hex");
+  const H5::Group node_sets = file.openGroup("node_sets"), face_sets = file.openGroup("face_sets");
+  for (const std::string& name : set_names(file, "node_sets")) {
+    m.node_sets[name] = read_array<Index>(node_sets, name);
+    check_indices(m.node_sets[name], n, "node set '" + name + "'");
+  }
+  for (const std::string& name : set_names(file, "face_sets")) {
+    m.face_sets[name] = read_rows<4>(face_sets, name);
+    for (const Quad& q : m.face_sets[name])
+      check_indices(q, n, "face set '" + name + "'");
+  }
+  return m;
+}
+
+} // namespace
+
+void write_model_h5(const Model& m, const fs::path& file) {
+  const Hdf5Errors errors;
+  try {
+    write_atomically(file, [&](const fs::path& temporary) {
+      H5::H5File h5(temporary.string(), H5F_ACC_TRUNC);
+      write_model(h5, m);
+      h5.close();
+    });
+  } catch (const H5::Exception& e) {
+    throw Error(detail::concat("cannot write model file ", file, ": HDF5: ", errors.describe(e)));
+  } catch (const Error& e) {
+    throw Error(detail::concat("cannot write model file ", file, ": ", e.what()));
+  }
+}
+
+Model read_model_h5(const fs::path& file) {
+  const Hdf5Errors errors;
+  try {
+    std::error_code status;
+    SPHFEM_CHECK(fs::exists(file, status), "no such file");
+    SPHFEM_CHECK(fs::is_regular_file(file, status), "not a regular file");
+    SPHFEM_CHECK(H5::H5File::isHdf5(file.string()), "not an HDF5 file");
+    return read_model(H5::H5File(file.string(), H5F_ACC_RDONLY));
+  } catch (const H5::Exception& e) {
+    throw Error(detail::concat("model file ", file, ": HDF5 cannot read it: ", errors.describe(e)));
+  } catch (const Error& e) {
+    throw Error(detail::concat("model file ", file, ": ", e.what()));
+  }
+}
+
+} // namespace sphfem

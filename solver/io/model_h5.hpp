@@ -1,0 +1,31 @@
+// model.h5: the meshed Model in a self-describing HDF5 file. Verified by
+// tests/io/model_h5_test.cpp.
+//
+// Layout (format "sphfem-model", format_version 1; indices 0-based int32, coordinates float64):
+//   /                 attributes format, format_version (int), generator, units, signature
+//   /bodies/names     B variable-length strings; body ids index this list
+//   /nodes/x          N×3 reference positions, attribute units = "m"
+//   /nodes/body_id    N
+//   /elements/hex     E×8 connectivity, attribute node_order = "gmsh hexahedron"
+//   /elements/body_id E
+//   /node_sets/<body>/<face>  sorted node indices of set "<body>/<face>"
+//   /face_sets/<body>/<face>  F×4 quads, right-hand normal out of the body
+// A set's name maps to an HDF5 path below /node_sets or /face_sets ("bar/zmin" is dataset
+// zmin in group bar). Large datasets are chunked and compressed (shuffle + deflate).
+#pragma once
+
+#include "solver/state/model.hpp"
+
+#include <filesystem>
+
+namespace sphfem {
+
+// Writes `file` + ".tmp" and renames it over `file`, so a crash never leaves a torn file.
+// Throws sphfem::Error naming the file if it cannot be written.
+void write_model_h5(const Model& m, const std::filesystem::path& file);
+
+// Reads and checks a model file (format, version, shapes, index ranges); any problem is a
+// sphfem::Error naming the file and what is wrong or missing.
+Model read_model_h5(const std::filesystem::path& file);
+
+} // namespace sphfem

@@ -1,0 +1,167 @@
+#include "solver/time/run.hpp"
+
+#include "solver/core/error.hpp"
+#include "solver/io/atomic_file.hpp"
+#include "solver/io/frame_writer.hpp"
+#include "solver/io/history_writer.hpp"
+#include "solver/io/run_log.hpp"
+#include "solver/time/probes.hpp"
+#include "solver/time/progress.hpp"
+#include "solver/time/simulation.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace sphfem {
+
+namespace {
+
+int thread_count() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+std::vector<std::string> history_columns(const std::vector<Probe>& probes,
+                                         const std::vector<std::string>& bodies) {
+  std::vector<std::string> columns{"time", "dt"};
+  for (const auto& c : probe_columns(probes))
+    columns.push_back(c);
+  for (const auto& b : bodies)
+    for (const char* k : {".vx", ".vy", ".vz"})
+      columns.push_back("body." + b + k);
+  for (const char* e : {"kinetic", "internal", "hourglass", "contact", "external_work", "total"})
+    columns.push_back(std::string("energy.") + e);
+  return columns;
+}
+
+void history_row(const Simulation& sim, double dt, const std::vector<Probe>& probes,
+                 const Energies& e, std::vector<double>& row) {
+  row.clear();
+  row.push_back(sim.time());
+  row.push_back(dt);
+  probe_values(probes, sim, row);
+  for (const auto& b : sim.bodies())
+    row.insert(row.end(), {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()});
+  row.insert(row.end(), {e.kinetic, e.internal, e.hourglass, e.contact, e.external_work, e.total()});
+}
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+} // namespace
+
+nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options) {
+  const auto& out = options.out_dir;
+  std::filesystem::create_directories(out);
+  RunLog log(out / "run.log", options.echo);
+
+  Simulation sim(c, model);
+  const auto probes = locate_probes(c, model);
+  const Index nodes = sim.nodes().size(), elements = sim.elements().size();
+  const double dt0 = sim.stable_dt();
+  log.line("case " + c.name + ": " + std::to_string(nodes) + " nodes, " +
+           std::to_string(elements) + " hexahedra, 0 particles; " + std::to_string(thread_count()) +
+           " threads");
+  log.line("stable step " + format("%.4e", dt0) + " s, about " +
+           format("%.0f", std::ceil(c.time.end / dt0)) + " steps to t = " +
+           format("%.4e", c.time.end) + " s");
+  for (const auto& p : probes)
+    log.line("probe " + p.name + " on node " + std::to_string(p.node) + " at (" +
+             format("%.6g", p.position.x()) + ", " + format("%.6g", p.position.y()) + ", " +
+             format("%.6g", p.position.z()) + ") m");
+
+  std::unique_ptr<FrameWriter> frames;
+  if (c.output.frames) {
+    frames = std::make_unique<FrameWriter>(out, sim.nodes(), sim.elements());
+    frames->write(0.0, sim.nodes(), sim.elements());
+  }
+  HistoryWriter history(out, history_columns(probes, sim.body_names()));
+  std::vector<double> row;
+  history_row(sim, 0.0, probes, sim.energies(), row);
+  history.append(row);
+
+  Progress progress(c.time.end, log);
+  const auto start = std::chrono::steady_clock::now();
+  // Output times are compared with a relative tolerance so round-off in t never skips one.
+  const double eps = 1e-9 * c.time.end;
+  double next_frame = c.time.output_interval, next_history = c.time.history_interval;
+  double dt = dt0;
+  while (sim.time() < c.time.end - eps) {
+    dt = std::min(sim.stable_dt(), c.time.end - sim.time());
+    SPHFEM_CHECK(dt > 1e-6 * dt0, "time step collapsed to ", dt, " s at t = ", sim.time(),
+                 " s (", dt0, " s at start): elements are being crushed; the run is unstable");
+    sim.step(dt);
+    const bool last = sim.time() >= c.time.end - eps;
+    if (last || sim.time() >= next_history - eps) {
+      const Energies e = sim.energies();
+      SPHFEM_CHECK(std::isfinite(e.total()), "energy is not finite at t = ", sim.time(),
+                   " s (step ", sim.steps(), "): the run is unstable; last good frame kept");
+      history_row(sim, dt, probes, e, row);
+      history.append(row);
+      while (next_history <= sim.time() + eps)
+        next_history += c.time.history_interval > 0 ? c.time.history_interval : dt;
+    }
+    if (last || sim.time() >= next_frame - eps) {
+      if (frames)
+        frames->write(sim.time(), sim.nodes(), sim.elements());
+      history.flush();
+      while (next_frame <= sim.time() + eps)
+        next_frame += c.time.output_interval;
+    }
+    progress.update(sim.steps(), sim.time(), dt);
+  }
+  progress.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  history.flush();
+
+  const Energies e = sim.energies();
+  nlohmann::json summary;
+  summary["case"] = c.name;
+  summary["steps"] = sim.steps();
+  summary["time"] = sim.time();
+  summary["wall_s"] = wall;
+  summary["entity_steps_per_s"] = wall > 0 ? double(elements) * double(sim.steps()) / wall : 0.0;
+  summary["threads"] = thread_count();
+  summary["counts"] = {{"particles", 0}, {"nodes", nodes}, {"elements", elements}};
+  summary["dt"] = {{"initial", dt0}, {"final", sim.stable_dt()}};
+  summary["energy"] = {{"kinetic", e.kinetic},
+                       {"internal", e.internal},
+                       {"hourglass", e.hourglass},
+                       {"contact", e.contact},
+                       {"external_work", e.external_work},
+                       {"total", e.total()},
+                       {"balance_error", sim.balance_error(e)}};
+  summary["momentum_drift"] = sim.momentum_drift();
+  for (const auto& b : sim.bodies())
+    summary["bodies"][b.name] = {
+        {"mass", b.mass},
+        {"com_velocity", {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()}},
+        {"killed_particles", 0},
+        {"eroded_elements", 0}};
+  for (const auto& p : probes)
+    summary["probes"][p.name] = {
+        {"node", p.node}, {"position", {p.position.x(), p.position.y(), p.position.z()}}};
+  summary["units"] = {{"time", "s"},   {"energy", "J"}, {"mass", "kg"},
+                      {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
+  write_text_atomically(out / "summary.json", summary.dump(2) + "\n");
+
+  log.line("done: " + std::to_string(sim.steps()) + " steps in " + format("%.2f", wall) +
+           " s (" + format("%.3g", summary["entity_steps_per_s"].get<double>()) +
+           " entity-steps/s); energy balance error " + format("%.2e", sim.balance_error(e)));
+  return summary;
+}
+
+} // namespace sphfem

@@ -1,0 +1,88 @@
+// One explicit simulation (METHOD.md §3, §7): the state of nodes and elements, and the
+// central-difference step in LS-DYNA order — external forces at tⁿ, v^{n+½} = v^{n−½} + Δtⁿ aⁿ
+// (Δtⁿ the mean of the neighbouring position steps),
+// kinematic constraints, x^{n+1} = xⁿ + Δt v^{n+½}, then the element phase (stress to σ^{n+1},
+// forces on x^{n+1}, next stable step). Energies and momentum are accounted every step so the
+// balances of DESIGN.md can be reported. Verified by tests/fem/wave_test.cpp and
+// tests/fem/conservation_test.cpp.
+#pragma once
+
+#include "solver/fem/node_gather.hpp"
+#include "solver/io/case.hpp"
+#include "solver/material/elastic.hpp"
+#include "solver/state/hex_elements.hpp"
+#include "solver/state/model.hpp"
+#include "solver/state/nodes.hpp"
+#include "solver/time/constraints.hpp"
+#include "solver/time/pressure_loads.hpp"
+
+#include <string>
+#include <vector>
+
+namespace sphfem {
+
+struct Energies {
+  double kinetic = 0;       // J, from v^{n+½}
+  double internal = 0;      // J
+  double hourglass = 0;     // J
+  double contact = 0;       // J
+  double external_work = 0; // J, loads and reactions
+  double total() const { return kinetic + internal + hourglass + contact; }
+};
+
+struct BodyTotals {
+  std::string name;
+  double mass = 0;                   // kg
+  Vec3 com_velocity = Vec3::Zero();  // m/s
+};
+
+class Simulation {
+public:
+  Simulation(const Case& c, const Model& model);
+
+  // Largest step the stability limit allows now: cfl × min over elements.
+  double stable_dt() const { return cfl_ * dt_elements_; }
+  void step(double dt);
+
+  double time() const { return time_; }
+  long long steps() const { return steps_; }
+
+  const Nodes& nodes() const { return nodes_; }
+  const HexElements& elements() const { return elements_; }
+  const NodeGather& node_gather() const { return gather_; }
+  const std::vector<std::string>& body_names() const { return body_names_; }
+
+  Energies energies() const;
+  // |E_kin + E_int + E_hg + E_contact − W_ext − E_0| / max(E_kin + E_int, |W_ext|, E_0).
+  double balance_error(const Energies& e) const;
+  // |Σ m v − P_0 − ∫F_ext dt| / max(|P_0|, Σ m |v_0|, Σ_steps |F_ext Δt|, tiny): the impulse
+  // term gives a meaningful scale to bodies set in motion by loads alone.
+  double momentum_drift() const;
+  Vec3 momentum() const;
+  std::vector<BodyTotals> bodies() const;
+
+private:
+  double cfl_;
+  FemSpec fem_;
+  std::vector<ElasticConstants> materials_;
+  std::vector<std::string> body_names_;
+  Nodes nodes_;
+  HexElements elements_;
+  NodeGather gather_;
+  Constraints constraints_;
+  PressureLoads loads_;
+  std::vector<std::vector<Index>> body_nodes_;
+
+  double time_ = 0;
+  long long steps_ = 0;
+  double dt_elements_ = 0;
+  double dt_previous_ = 0;
+  double external_work_ = 0;
+  double initial_energy_ = 0;
+  Vec3 initial_momentum_ = Vec3::Zero();
+  double momentum_scale_ = 0;
+  Vec3 external_impulse_ = Vec3::Zero();
+  double impulse_scale_ = 0;
+};
+
+} // namespace sphfem

@@ -1,0 +1,439 @@
+// Tests of the case-file reader: a full valid case, defaults, one test per class of bad
+// input (each checking the reported location and key path), and --set overrides.
+#include "solver/io/case_reader.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace sphfem {
+namespace {
+
+// The example of the schema, every section present.
+const std::string kFullCase = R"(name: bar_pressed_fe
+time:
+  end: 14.0e-6
+  cfl: 0.5
+  output_interval: 0.5e-6
+  history_interval: 1.0e-8
+materials:
+  steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}
+  alu: {model: elastic, density: 2700, youngs_modulus: 70e9, poisson_ratio: 0.33}
+bodies:
+  bar:
+    method: fem
+    geometry:
+      box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}
+    element_size: 0.001
+    material: steel
+    velocity: [0, 0, -10]
+  rod:
+    method: fem
+    geometry: {cylinder: {base: [0, 0, 0.2], axis: [0, 0, 0.08], radius: 0.01}}
+    element_size: 0.002
+    material: alu
+boundary_conditions:
+  - {type: fixed, body: bar, face: zmax}
+  - {type: symmetry, body: bar, face: xmin}
+  - {type: velocity, body: rod, face: top, velocity: [~, ~, -1.0], function: [[0, 0], [1e-6, 1]]}
+loads:
+  - {type: pressure, body: bar, face: zmin, pressure: 40.0e9, function: [[0,0],[1e-7,1],[9e-7,1],[1e-6,0]]}
+probes:
+  - {name: mid, body: bar, point: [0.0025, 0.0025, 0.05]}
+  - {name: rod_tip, body: rod, point: [0, 0, 0.28]}
+fem:
+  hourglass: {form: stiffness, coefficient: 0.05}
+  bulk_viscosity: {linear: 0.1, quadratic: 2.0}
+output:
+  frames: false
+)";
+
+// The smallest valid case; the bad-input tests edit one line of it. Line numbers:
+// 1 name, 2 time, 3 materials, 4 steel, 5 bodies, 6 bar, 7 method, 8 geometry,
+// 9 element_size, 10 material.
+const std::string kMinimal = R"(name: bar
+time: {end: 1.0e-5, output_interval: 1.0e-6}
+materials:
+  steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}
+bodies:
+  bar:
+    method: fem
+    geometry: {box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}
+    element_size: 0.001
+    material: steel
+)";
+
+// `text` with its one occurrence of `from` replaced by `to`.
+std::string edited(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "'" << from << "' not in the case";
+  return at == std::string::npos ? text : text.replace(at, from.size(), to);
+}
+
+// The message of the Error that `read` throws.
+template <class Read> std::string error_message(Read read) {
+  try {
+    read();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// The message of the Error that reading `text` as "case.yaml" throws.
+std::string error_of(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  return error_message([&] { read_case_text(text, "case.yaml", overrides); });
+}
+
+// Checks that `message` starts with `location_and_key` ("case.yaml:4: materials.steel: ")
+// and contains `what`.
+testing::AssertionResult reports(const std::string& message, const std::string& location_and_key,
+                                 const std::string& what) {
+  if (message.starts_with(location_and_key) && message.find(what) != std::string::npos)
+    return testing::AssertionSuccess();
+  return testing::AssertionFailure() << "message was: " << message;
+}
+
+TEST(CaseReader, ReadsFullCase) {
+  const Case c = read_case_text(kFullCase, "cases/full.yaml");
+  EXPECT_EQ(c.name, "bar_pressed_fe");
+  EXPECT_EQ(c.file, std::filesystem::path("cases/full.yaml"));
+  EXPECT_NEAR(c.time.end, 14.0e-6, 1e-18);
+  EXPECT_NEAR(c.time.cfl, 0.5, 1e-15);
+  EXPECT_NEAR(c.time.output_interval, 0.5e-6, 1e-18);
+  EXPECT_NEAR(c.time.history_interval, 1.0e-8, 1e-20);
+
+  ASSERT_EQ(c.materials.size(), 2u);
+  EXPECT_EQ(c.materials[0].name, "steel");
+  EXPECT_EQ(c.materials[0].model, "elastic");
+  EXPECT_NEAR(c.materials[0].density, 7830, 1e-9);
+  EXPECT_NEAR(c.materials[0].youngs_modulus, 207e9, 1e-3);
+  EXPECT_NEAR(c.materials[0].poisson_ratio, 0.3, 1e-15);
+  EXPECT_EQ(c.materials[1].name, "alu");
+
+  ASSERT_EQ(c.bodies.size(), 2u); // in file order
+  const BodySpec& bar = c.bodies[0];
+  EXPECT_EQ(bar.name, "bar");
+  EXPECT_EQ(bar.method, Method::Fem);
+  EXPECT_EQ(bar.geometry.kind, GeometrySpec::Kind::Box);
+  EXPECT_NEAR((bar.geometry.box.min - Vec3(0, 0, 0)).norm(), 0, 1e-15);
+  EXPECT_NEAR((bar.geometry.box.max - Vec3(0.005, 0.005, 0.1)).norm(), 0, 1e-15);
+  EXPECT_NEAR(bar.element_size, 0.001, 1e-15);
+  EXPECT_EQ(bar.material, "steel");
+  EXPECT_NEAR((bar.velocity - Vec3(0, 0, -10)).norm(), 0, 1e-15);
+  const BodySpec& rod = c.bodies[1];
+  EXPECT_EQ(rod.geometry.kind, GeometrySpec::Kind::Cylinder);
+  EXPECT_NEAR((rod.geometry.cylinder.base - Vec3(0, 0, 0.2)).norm(), 0, 1e-15);
+  EXPECT_NEAR((rod.geometry.cylinder.axis - Vec3(0, 0, 0.08)).norm(), 0, 1e-15);
+  EXPECT_NEAR(rod.geometry.cylinder.radius, 0.01, 1e-15);
+  EXPECT_NEAR(rod.velocity.norm(), 0, 1e-15);
+
+  ASSERT_EQ(c.boundary_conditions.size(), 3u);
+  EXPECT_EQ(c.boundary_conditions[0].type, BoundaryType::Fixed);
+  EXPECT_EQ(c.boundary_conditions[0].face, "zmax");
+  EXPECT_EQ(c.boundary_conditions[1].type, BoundaryType::Symmetry);
+  EXPECT_EQ(c.boundary_conditions[1].face, "xmin");
+  const BoundaryConditionSpec& moved = c.boundary_conditions[2];
+  EXPECT_EQ(moved.type, BoundaryType::Velocity);
+  EXPECT_EQ(moved.body, "rod");
+  EXPECT_EQ(moved.face, "top");
+  EXPECT_FALSE(moved.velocity[0].has_value());
+  EXPECT_FALSE(moved.velocity[1].has_value());
+  ASSERT_TRUE(moved.velocity[2].has_value());
+  EXPECT_NEAR(*moved.velocity[2], -1.0, 1e-15);
+  ASSERT_EQ(moved.function.table().size(), 2u);
+  EXPECT_NEAR(moved.function(0.5e-6), 0.5, 1e-12);
+
+  ASSERT_EQ(c.loads.size(), 1u);
+  EXPECT_EQ(c.loads[0].body, "bar");
+  EXPECT_EQ(c.loads[0].face, "zmin");
+  EXPECT_NEAR(c.loads[0].pressure, 40.0e9, 1e-3);
+  ASSERT_EQ(c.loads[0].function.table().size(), 4u);
+  EXPECT_NEAR(c.loads[0].function(5e-7), 1.0, 1e-12);
+
+  ASSERT_EQ(c.probes.size(), 2u);
+  EXPECT_EQ(c.probes[0].name, "mid");
+  EXPECT_EQ(c.probes[0].body, "bar");
+  EXPECT_NEAR((c.probes[0].point - Vec3(0.0025, 0.0025, 0.05)).norm(), 0, 1e-15);
+  EXPECT_EQ(c.probes[1].body, "rod");
+
+  EXPECT_EQ(c.fem.hourglass_form, HourglassForm::Stiffness);
+  EXPECT_NEAR(c.fem.hourglass_coefficient, 0.05, 1e-15);
+  EXPECT_NEAR(c.fem.bulk_viscosity_linear, 0.1, 1e-15);
+  EXPECT_NEAR(c.fem.bulk_viscosity_quadratic, 2.0, 1e-15);
+  EXPECT_FALSE(c.output.frames);
+
+  EXPECT_EQ(&c.material("alu"), &c.materials[1]);
+  EXPECT_THROW(c.material("copper"), Error);
+  EXPECT_EQ(c.body_index("rod"), 1);
+  EXPECT_EQ(c.body_index("plate"), -1);
+}
+
+TEST(CaseReader, FillsDefaults) {
+  const Case c = read_case_text(kMinimal, "case.yaml");
+  EXPECT_NEAR(c.time.cfl, 0.9, 1e-15);
+  EXPECT_NEAR(c.time.history_interval, 0, 1e-15);
+  EXPECT_NEAR(c.bodies[0].velocity.norm(), 0, 1e-15);
+  EXPECT_TRUE(c.boundary_conditions.empty());
+  EXPECT_TRUE(c.loads.empty());
+  EXPECT_TRUE(c.probes.empty());
+  EXPECT_EQ(c.fem.hourglass_form, HourglassForm::Viscous);
+  EXPECT_NEAR(c.fem.hourglass_coefficient, 0.1, 1e-15);
+  EXPECT_NEAR(c.fem.bulk_viscosity_linear, 0.06, 1e-15);
+  EXPECT_NEAR(c.fem.bulk_viscosity_quadratic, 1.5, 1e-15);
+  EXPECT_TRUE(c.output.frames);
+}
+
+TEST(CaseReader, RejectsUnknownTopLevelKey) {
+  EXPECT_TRUE(reports(error_of(kMinimal + "colour: red\n"), "case.yaml:11: colour: ",
+                      "unknown key (expected one of: name, time, materials, bodies,"));
+}
+
+TEST(CaseReader, RejectsUnknownNestedKey) {
+  const std::string bad =
+      edited(kMinimal, "max: [0.005, 0.005, 0.1]}", "max: [1, 1, 1], colour: red}");
+  EXPECT_EQ(error_of(bad),
+            "case.yaml:8: bodies.bar.geometry.box.colour: unknown key (expected one of: min, max)");
+}
+
+TEST(CaseReader, RejectsWrongTypes) {
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "density: 7830", "density: heavy")),
+                      "case.yaml:4: materials.steel.density: ", "must be a number, got heavy"));
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "density: 7830", "density: '7830'")),
+                      "case.yaml:4: materials.steel.density: ", "must be a number"));
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "density: 7830", "density: .inf")),
+                      "case.yaml:4: materials.steel.density: ", "must be a finite number"));
+  EXPECT_TRUE(reports(error_of(kMinimal + "probes: {mid: 1}\n"),
+                      "case.yaml:11: probes: ", "must be a list, got a map"));
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "min: [0, 0, 0]", "min: [0, 0]")),
+                      "case.yaml:8: bodies.bar.geometry.box.min: ",
+                      "must be a list of 3 numbers [x, y, z], got a list of 2"));
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "material: steel", "material: [steel]")),
+                      "case.yaml:10: bodies.bar.material: ", "must be a string, got a list"));
+  EXPECT_TRUE(reports(error_of(kMinimal + "output: {frames: often}\n"),
+                      "case.yaml:11: output.frames: ", "must be true or false, got often"));
+  EXPECT_TRUE(reports(error_of("- just\n- a list\n"),
+                      "case.yaml:1: (top level): ", "must be a map, got a list of 2"));
+}
+
+TEST(CaseReader, RejectsMissingKey) {
+  const std::string bad = edited(kMinimal, "{end: 1.0e-5, ", "{");
+  EXPECT_EQ(error_of(bad), "case.yaml:2: time.end: missing key (end time, s)");
+  // The line of a block map is that of its first key.
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "    method: fem\n", "")),
+                      "case.yaml:7: bodies.bar.method: ", "missing key"));
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "name: bar\n", "")),
+                      "case.yaml:1: name: ", "missing key (case name)"));
+}
+
+TEST(CaseReader, RejectsNonPositiveDensity) {
+  EXPECT_EQ(error_of(edited(kMinimal, "density: 7830", "density: -7830")),
+            "case.yaml:4: materials.steel.density: must be > 0 kg/m³, got -7830");
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "density: 7830", "density: 0")),
+                      "case.yaml:4: materials.steel.density: ", "got 0"));
+}
+
+TEST(CaseReader, RejectsNonPositiveYoungsModulus) {
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "youngs_modulus: 207e9", "youngs_modulus: 0")),
+                      "case.yaml:4: materials.steel.youngs_modulus: ", "must be > 0 Pa, got 0"));
+}
+
+TEST(CaseReader, RejectsPoissonRatioOutOfRange) {
+  EXPECT_TRUE(
+      reports(error_of(edited(kMinimal, "poisson_ratio: 0.3", "poisson_ratio: 0.5")),
+              "case.yaml:4: materials.steel.poisson_ratio: ", "must be in (-1, 0.5), got 0.5"));
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "poisson_ratio: 0.3", "poisson_ratio: -1")),
+                      "case.yaml:4: materials.steel.poisson_ratio: ", "got -1"));
+}
+
+TEST(CaseReader, RejectsUnknownMaterialModel) {
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "model: elastic", "model: plastic")),
+                      "case.yaml:4: materials.steel.model: ",
+                      "unknown model 'plastic' (expected one of: elastic)"));
+}
+
+TEST(CaseReader, RejectsNegativeEndTime) {
+  EXPECT_EQ(error_of(edited(kMinimal, "end: 1.0e-5", "end: -1.0e-5")),
+            "case.yaml:2: time.end: must be > 0 s, got -1.0e-5");
+}
+
+TEST(CaseReader, RejectsNegativeOutputInterval) {
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "output_interval: 1.0e-6", "output_interval: -1")),
+                      "case.yaml:2: time.output_interval: ", "must be > 0 s, got -1"));
+}
+
+TEST(CaseReader, RejectsEmptyBox) {
+  EXPECT_TRUE(
+      reports(error_of(edited(kMinimal, "max: [0.005, 0.005, 0.1]", "max: [0.005, 0, 0.1]")),
+              "case.yaml:8: bodies.bar.geometry.box: ",
+              "empty geometry: max must exceed min in every component"));
+}
+
+TEST(CaseReader, RejectsZeroRadiusCylinder) {
+  const std::string bad =
+      edited(kMinimal, "{box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}",
+             "\n      cylinder: {base: [0, 0, 0], axis: [0, 0, 0.1], radius: 0}");
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:9: bodies.bar.geometry.cylinder.radius: ",
+                      "must be > 0 m (empty geometry), got 0"));
+}
+
+TEST(CaseReader, RejectsGeometryWithoutExactlyOneShape) {
+  EXPECT_TRUE(
+      reports(error_of(edited(kMinimal, "geometry: {box:", "geometry: {cylinder: {}, box:")),
+              "case.yaml:8: bodies.bar.geometry: ", "exactly one of: box, cylinder"));
+}
+
+TEST(CaseReader, RejectsUnknownMaterialReference) {
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, "material: steel", "material: stel")),
+      "case.yaml:10: bodies.bar.material: ", "unknown material 'stel' (expected one of: steel)"));
+}
+
+TEST(CaseReader, RejectsDuplicateMaterial) {
+  const std::string bad = edited(kMinimal, "bodies:", "  steel: {model: elastic}\nbodies:");
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:5: materials.steel: ",
+                      "duplicate key (first given at case.yaml:4)"));
+}
+
+TEST(CaseReader, RejectsUnknownFaceName) {
+  const std::string bad =
+      kMinimal + "loads:\n  - {type: pressure, body: bar, face: top, pressure: 1}\n";
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:12: loads.0.face: ",
+                      "unknown face 'top' (expected one of: xmin, xmax, ymin, ymax, zmin, zmax)"));
+}
+
+TEST(CaseReader, RejectsUnknownBodyInBoundaryCondition) {
+  const std::string bad =
+      kMinimal + "boundary_conditions:\n  - {type: fixed, body: rod, face: zmin}\n";
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:12: boundary_conditions.0.body: ",
+                      "unknown body 'rod' (expected one of: bar)"));
+}
+
+TEST(CaseReader, RejectsUnknownBodyInProbe) {
+  const std::string bad = kMinimal + "probes:\n  - {name: a, body: bar, point: [0, 0, 0]}\n" +
+                          "  - {name: b, body: rod, point: [0, 0, 0]}\n";
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:13: probes.1.body: ", "unknown body 'rod'"));
+}
+
+TEST(CaseReader, RejectsDuplicateProbeName) {
+  const std::string bad = kMinimal + "probes:\n  - {name: a, body: bar, point: [0, 0, 0]}\n" +
+                          "  - {name: a, body: bar, point: [0, 0, 0]}\n";
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:13: probes.1.name: ", "duplicate probe name 'a'"));
+}
+
+TEST(CaseReader, RejectsVelocityOnNonVelocityCondition) {
+  const std::string bad =
+      kMinimal +
+      "boundary_conditions:\n  - {type: fixed, body: bar, face: zmin, velocity: [0, 0, 0]}\n";
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:12: boundary_conditions.0.velocity: ",
+                      "only allowed for type velocity"));
+}
+
+TEST(CaseReader, RejectsBadTimeFunction) {
+  const std::string load = "loads:\n  - {type: pressure, body: bar, face: zmin, pressure: 1,\n"
+                           "     function: [[0, 0], [2e-6, 1], [1e-6, 0]]}\n";
+  EXPECT_TRUE(reports(error_of(kMinimal + load), "case.yaml:13: loads.0.function.2.0: ",
+                      "times must be strictly increasing, got 1e-6 after 2e-6"));
+  const std::string negative = edited(load, "[[0, 0],", "[[-1e-6, 0],");
+  EXPECT_TRUE(reports(error_of(kMinimal + negative),
+                      "case.yaml:13: loads.0.function.0.0: ", "negative times are not allowed"));
+  const std::string empty = edited(load, "[[0, 0], [2e-6, 1], [1e-6, 0]]", "[]");
+  EXPECT_TRUE(
+      reports(error_of(kMinimal + empty), "case.yaml:13: loads.0.function: ", "at least one row"));
+}
+
+TEST(CaseReader, ReportsYamlSyntaxError) {
+  const std::string bad =
+      edited(kMinimal, "max: [0.005, 0.005, 0.1]}}", "max: [0.005, 0.005, 0.1}}");
+  EXPECT_TRUE(reports(error_of(bad), "case.yaml:", ": YAML syntax error: "));
+  EXPECT_TRUE(reports(error_of("name: a\n  time: b\n"), "case.yaml:2: YAML syntax error: ", ""));
+}
+
+TEST(CaseReader, ReadsFileAndReportsMissingFile) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "sphfem_case_reader_test.yaml";
+  std::ofstream(file) << kMinimal;
+  EXPECT_EQ(read_case(file).file, file);
+  std::filesystem::remove(file);
+  EXPECT_TRUE(reports(error_message([&] { read_case(file); }), file.string() + ": ",
+                      "cannot open the case file"));
+}
+
+TEST(CaseReader, ThrowsOnlyLocatedErrorsOnOddInput) {
+  for (const std::string text : {"", "42", "[", "a: *undefined", "? [a, b]\n: 1\n", "\t- x",
+                                 "name: [a\n", "name: !!binary x\n", "&a a: b"}) {
+    SCOPED_TRACE(text);
+    EXPECT_TRUE(reports(error_of(text), "case.yaml:", ": "));
+  }
+}
+
+TEST(CaseReaderOverrides, AppliesScalarOverride) {
+  const Case c = read_case_text(kMinimal, "case.yaml", {"materials.steel.density=7800"});
+  EXPECT_NEAR(c.materials[0].density, 7800, 1e-9);
+}
+
+TEST(CaseReaderOverrides, AppliesListOverride) {
+  const Case c = read_case_text(kMinimal, "case.yaml", {"bodies.bar.velocity=[0, 0, -5]"});
+  EXPECT_NEAR((c.bodies[0].velocity - Vec3(0, 0, -5)).norm(), 0, 1e-15);
+}
+
+TEST(CaseReaderOverrides, AppliesSequenceIndexOverride) {
+  const Case c =
+      read_case_text(kFullCase, "case.yaml", {"probes.1.point=[0, 0, 0.05]", "time.end=1e-5"});
+  EXPECT_NEAR((c.probes[1].point - Vec3(0, 0, 0.05)).norm(), 0, 1e-15);
+  EXPECT_NEAR((c.probes[0].point - Vec3(0.0025, 0.0025, 0.05)).norm(), 0, 1e-15);
+  EXPECT_NEAR(c.time.end, 1e-5, 1e-20);
+}
+
+TEST(CaseReaderOverrides, LocatesOverriddenValues) {
+  EXPECT_EQ(error_of(kMinimal, {"materials.steel.density=-1"}),
+            "--set materials.steel.density: materials.steel.density: must be > 0 kg/m³, got -1");
+  EXPECT_TRUE(reports(error_of(kMinimal, {"time={end: 1}"}),
+                      "--set time: time.output_interval: ", "missing key"));
+  // A problem elsewhere is still located in the file.
+  EXPECT_TRUE(reports(error_of(edited(kMinimal, "density: 7830", "density: 0"), {"time.cfl=0.5"}),
+                      "case.yaml:4: materials.steel.density: ", "must be > 0"));
+}
+
+TEST(CaseReaderOverrides, RejectsOverrideCreatingUnknownKey) {
+  EXPECT_TRUE(reports(error_of(kMinimal, {"time.colour=red"}),
+                      "--set time.colour: time.colour: ", "unknown key"));
+  EXPECT_TRUE(reports(error_of(kMinimal, {"solver.threads=2"}),
+                      "--set solver.threads: solver: ", "unknown key"));
+  EXPECT_TRUE(reports(error_of(kMinimal, {"bodies.rod.method=fem"}),
+                      "--set bodies.rod.method: bodies.rod.geometry: ", "missing key"));
+}
+
+TEST(CaseReaderOverrides, RejectsMalformedOverride) {
+  EXPECT_EQ(error_of(kMinimal, {"time.end"}), "--set time.end: expected key.path=value");
+  EXPECT_TRUE(reports(error_of(kMinimal, {"=1"}), "--set =1: ", "empty key"));
+  EXPECT_TRUE(reports(error_of(kMinimal, {"time..end=1"}), "--set time..end=1: ", "empty key"));
+  EXPECT_TRUE(reports(error_of(kFullCase, {"probes.2.point=[0, 0, 0]"}),
+                      "--set probes.2.point=[0, 0, 0]: ", "index 2 out of range (probes has 2"));
+  EXPECT_TRUE(reports(error_of(kFullCase, {"probes.first.point=[0, 0, 0]"}),
+                      "--set probes.first.point=[0, 0, 0]: ", "must be an index"));
+  EXPECT_TRUE(reports(error_of(kMinimal, {"name.first=x"}),
+                      "--set name.first=x: ", "name is a single value"));
+  EXPECT_TRUE(reports(error_of(kMinimal, {"time.end=[1"}),
+                      "--set time.end=[1: ", "YAML syntax error in the value"));
+}
+
+TEST(CaseReaderOverrides, RejectsOverrideOfValueSharedByAlias) {
+  const std::string shared =
+      edited(kMinimal, "material: steel", "material: steel\n    velocity: &v [0, 0, 1]") +
+      "probes:\n  - {name: p, body: bar, point: *v}\n";
+  EXPECT_NEAR(read_case_text(shared, "case.yaml").probes[0].point.z(), 1.0, 1e-15);
+  EXPECT_TRUE(reports(error_of(shared, {"probes.0.point=[0, 0, 2]"}),
+                      "--set probes.0.point=[0, 0, 2]: ",
+                      "probes.0.point is shared with other keys through a YAML alias"));
+  EXPECT_TRUE(reports(error_of(shared, {"bodies.bar.velocity.2=2"}),
+                      "--set bodies.bar.velocity.2=2: ", "bodies.bar.velocity is shared"));
+}
+
+} // namespace
+} // namespace sphfem

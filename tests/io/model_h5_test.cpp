@@ -1,0 +1,303 @@
+// Tests of solver/io/model_h5.hpp and model_vtu.hpp: exact round trips of model.h5, clear
+// errors (naming the file) for damaged or foreign files, and model.vtu read back with VTK.
+#include "solver/io/model_h5.hpp"
+#include "solver/io/model_vtu.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <H5Cpp.h>
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkCellTypes.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <numbers>
+#include <string>
+
+namespace sphfem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A structured nx × ny × nz hex grid with irrational coordinates, split into two bodies at
+// half height, with named node and face sets on its bottom and right faces.
+Model grid_model(int nx, int ny, int nz) {
+  Model m;
+  m.body_names = {"bar", "anvil"};
+  m.signature = "sphfem-mesh 1\nbody bar method=fem box min=0,0,0 max=1,1,1 element_size=0.1\n";
+  const auto node = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        m.x_n.emplace_back(i * std::sqrt(2.0) / 7, j * std::numbers::pi / 11, k / 3.0);
+        m.body_n.push_back(2 * k < nz ? 0 : 1);
+      }
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        m.hex_e.push_back({node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
+                           node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
+                           node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)});
+        m.body_e.push_back(2 * k < nz ? 0 : 1);
+      }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      m.face_sets["bar/zmin"].push_back(
+          {node(i, j, 0), node(i, j + 1, 0), node(i + 1, j + 1, 0), node(i + 1, j, 0)});
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      m.face_sets["anvil/xmax"].push_back(
+          {node(nx, j, k), node(nx, j + 1, k), node(nx, j + 1, k + 1), node(nx, j, k + 1)});
+  for (const auto& [name, quads] : m.face_sets) {
+    auto& nodes = m.node_sets[name];
+    for (const Quad& q : quads)
+      nodes.insert(nodes.end(), q.begin(), q.end());
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  return m;
+}
+
+class ModelFiles : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sphfem_model_h5_test_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  // Writes a small model to `name` and lets `edit` damage it through HDF5.
+  fs::path damaged(const std::string& name, const std::function<void(H5::H5File&)>& edit) const {
+    const fs::path file = path(name);
+    write_model_h5(grid_model(3, 2, 2), file);
+    H5::H5File h5(file.string(), H5F_ACC_RDWR);
+    edit(h5);
+    return file;
+  }
+
+  static void expect_read_error(const fs::path& file, const std::string& fragment) {
+    try {
+      read_model_h5(file);
+      ADD_FAILURE() << "no error reading " << file;
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+      EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+  }
+
+  fs::path dir_;
+};
+
+void expect_same(const Model& a, const Model& b) {
+  EXPECT_EQ(a.body_names, b.body_names);
+  EXPECT_EQ(a.x_n, b.x_n); // bit for bit
+  EXPECT_EQ(a.body_n, b.body_n);
+  EXPECT_EQ(a.hex_e, b.hex_e);
+  EXPECT_EQ(a.body_e, b.body_e);
+  EXPECT_EQ(a.node_sets, b.node_sets);
+  EXPECT_EQ(a.face_sets, b.face_sets);
+  EXPECT_EQ(a.signature, b.signature);
+}
+
+// ---- model.h5 -------------------------------------------------------------------------------
+
+TEST_F(ModelFiles, RoundTripsExactly) {
+  const Model m = grid_model(30, 30, 20); // 18000 hexes: exercises chunked, compressed datasets
+  const fs::path file = path("model.h5");
+  write_model_h5(m, file);
+  EXPECT_FALSE(fs::exists(path("model.h5.tmp")));
+  expect_same(read_model_h5(file), m);
+}
+
+TEST_F(ModelFiles, EmptyModelRoundTrips) {
+  Model m;
+  m.signature = "";
+  write_model_h5(m, path("empty.h5"));
+  expect_same(read_model_h5(path("empty.h5")), m);
+}
+
+TEST_F(ModelFiles, OverwritesAnExistingFile) {
+  const fs::path file = path("model.h5");
+  write_model_h5(grid_model(2, 2, 2), file);
+  const Model m = grid_model(3, 1, 2);
+  write_model_h5(m, file);
+  expect_same(read_model_h5(file), m);
+}
+
+TEST_F(ModelFiles, IsSelfDescribing) {
+  const fs::path file = path("model.h5");
+  write_model_h5(grid_model(2, 2, 2), file);
+  const H5::H5File h5(file.string(), H5F_ACC_RDONLY);
+  const auto text = [&](const H5::H5Object& o, const std::string& name) {
+    std::string s;
+    const H5::Attribute a = o.openAttribute(name);
+    a.read(a.getStrType(), s);
+    return s;
+  };
+  EXPECT_EQ(text(h5, "format"), "sphfem-model");
+  EXPECT_EQ(text(h5, "units"), "SI (m, kg, s)");
+  EXPECT_EQ(text(h5, "generator").rfind("sphfem ", 0), 0u);
+  int version = 0;
+  h5.openAttribute("format_version").read(H5::PredType::NATIVE_INT, &version);
+  EXPECT_EQ(version, 1);
+  EXPECT_EQ(text(h5.openDataSet("nodes/x"), "units"), "m");
+  EXPECT_EQ(text(h5.openDataSet("elements/hex"), "node_order"), "gmsh hexahedron");
+  EXPECT_TRUE(h5.nameExists("node_sets/bar/zmin"));
+  EXPECT_TRUE(h5.nameExists("face_sets/anvil/xmax"));
+}
+
+TEST_F(ModelFiles, UnwritablePathIsAnError) {
+  const fs::path file = path("no_such_dir") / "model.h5";
+  try {
+    write_model_h5(grid_model(1, 1, 1), file);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(ModelFiles, WrongFormatVersionIsRejected) {
+  const fs::path file = damaged("v2.h5", [](H5::H5File& h5) {
+    h5.removeAttr("format_version");
+    const int two = 2;
+    h5.createAttribute("format_version", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_INT, &two);
+  });
+  expect_read_error(file, "format_version 2 is not supported");
+}
+
+TEST_F(ModelFiles, ForeignHdf5FileIsRejected) {
+  const fs::path file = path("other.h5");
+  H5::H5File(file.string(), H5F_ACC_TRUNC).createGroup("data");
+  expect_read_error(file, "missing attribute 'format'");
+}
+
+TEST_F(ModelFiles, TruncatedFileIsAnError) {
+  const fs::path whole = path("whole.h5"), cut = path("cut.h5");
+  write_model_h5(grid_model(10, 10, 10), whole);
+  std::ifstream in(whole, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(cut, std::ios::binary)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  expect_read_error(cut, "truncated file");
+}
+
+TEST_F(ModelFiles, MissingDatasetIsNamed) {
+  const fs::path file = damaged("no_hex.h5", [](H5::H5File& h5) { h5.unlink("elements/hex"); });
+  expect_read_error(file, "missing dataset 'elements/hex'");
+}
+
+TEST_F(ModelFiles, NonHdf5FileIsAnError) {
+  const fs::path file = path("model.h5");
+  std::ofstream(file) << "name: not a model\n";
+  expect_read_error(file, "not an HDF5 file");
+}
+
+TEST_F(ModelFiles, MissingFileIsAnError) {
+  expect_read_error(path("absent.h5"), "no such file");
+}
+
+TEST_F(ModelFiles, OutOfRangeConnectivityIsAnError) {
+  const fs::path file = damaged("bad_hex.h5", [](H5::H5File& h5) {
+    const H5::DataSet hex = h5.openDataSet("elements/hex");
+    std::vector<int> values(static_cast<std::size_t>(hex.getSpace().getSimpleExtentNpoints()));
+    hex.read(values.data(), H5::PredType::NATIVE_INT);
+    values[5] = 4 * 3 * 3; // one past the last node
+    hex.write(values.data(), H5::PredType::NATIVE_INT);
+  });
+  expect_read_error(file, "elements/hex holds index 36");
+}
+
+TEST_F(ModelFiles, WrongShapeIsAnError) {
+  const fs::path file = damaged("bad_x.h5", [](H5::H5File& h5) {
+    h5.unlink("nodes/x");
+    const hsize_t dims[2] = {36, 2};
+    const std::vector<double> zeros(72, 0.0);
+    h5.createDataSet("nodes/x", H5::PredType::IEEE_F64LE, H5::DataSpace(2, dims))
+        .write(zeros.data(), H5::PredType::NATIVE_DOUBLE);
+  });
+  expect_read_error(file, "'nodes/x' must have 3 columns");
+}
+
+TEST_F(ModelFiles, OutOfRangeSetIsAnError) {
+  const fs::path file = damaged("bad_set.h5", [](H5::H5File& h5) {
+    const H5::DataSet set = h5.openDataSet("node_sets/bar/zmin");
+    std::vector<int> values(static_cast<std::size_t>(set.getSpace().getSimpleExtentNpoints()));
+    set.read(values.data(), H5::PredType::NATIVE_INT);
+    values.back() = -1;
+    set.write(values.data(), H5::PredType::NATIVE_INT);
+  });
+  expect_read_error(file, "node set 'bar/zmin' holds index -1");
+}
+
+// ---- model.vtu ------------------------------------------------------------------------------
+
+TEST_F(ModelFiles, VtuReadsBackWithHexCellsBodyIdsAndSets) {
+  const Model m = grid_model(4, 3, 2);
+  const fs::path file = path("model.vtu");
+  write_model_vtu(m, file);
+  EXPECT_FALSE(fs::exists(path("model.vtu.tmp")));
+
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(file.string().c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  ASSERT_EQ(grid->GetNumberOfPoints(), m.node_count());
+  ASSERT_EQ(grid->GetNumberOfCells(), m.element_count());
+  for (Index i = 0; i < m.node_count(); ++i)
+    EXPECT_EQ(Vec3(grid->GetPoint(i)), m.x_n[i]);
+  vtkNew<vtkIdList> ids;
+  for (Index e = 0; e < m.element_count(); ++e) {
+    EXPECT_EQ(grid->GetCellType(e), VTK_HEXAHEDRON);
+    grid->GetCellPoints(e, ids);
+    ASSERT_EQ(ids->GetNumberOfIds(), 8);
+    for (int k = 0; k < 8; ++k)
+      EXPECT_EQ(ids->GetId(k), m.hex_e[e][k]);
+  }
+  vtkDataArray* point_body = grid->GetPointData()->GetArray("body_id");
+  vtkDataArray* cell_body = grid->GetCellData()->GetArray("body_id");
+  ASSERT_NE(point_body, nullptr);
+  ASSERT_NE(cell_body, nullptr);
+  for (Index i = 0; i < m.node_count(); ++i)
+    EXPECT_EQ(point_body->GetTuple1(i), m.body_n[i]);
+  for (Index e = 0; e < m.element_count(); ++e)
+    EXPECT_EQ(cell_body->GetTuple1(e), m.body_e[e]);
+  for (const auto& [name, nodes] : m.node_sets) {
+    vtkDataArray* flag = grid->GetPointData()->GetArray(("set:" + name).c_str());
+    ASSERT_NE(flag, nullptr) << name;
+    double count = 0;
+    for (Index i = 0; i < m.node_count(); ++i)
+      count += flag->GetTuple1(i);
+    EXPECT_EQ(count, static_cast<double>(nodes.size())) << name;
+    for (const Index i : nodes)
+      EXPECT_EQ(flag->GetTuple1(i), 1) << name;
+  }
+}
+
+TEST_F(ModelFiles, VtuUnwritablePathIsAnError) {
+  const fs::path file = path("no_such_dir") / "model.vtu";
+  try {
+    write_model_vtu(grid_model(1, 1, 1), file);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  }
+}
+
+} // namespace
+} // namespace sphfem

@@ -1,0 +1,433 @@
+// Tests of mesher/mesher.hpp: box and cylinder hex meshes checked against independent
+// geometry (tetrahedral volumes, corner Jacobians, face normals and areas, conformity), two-body
+// models, mesh signatures and errors.
+#include "mesher/mesher.hpp"
+
+#include "mesher/gmsh_body.hpp"
+#include "solver/core/error.hpp"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+
+namespace sphfem {
+namespace {
+
+// ---- case construction ----------------------------------------------------------------------
+
+BodySpec box_body(const std::string& name, const Vec3& min, const Vec3& max, double h) {
+  BodySpec b;
+  b.name = name;
+  b.geometry.kind = GeometrySpec::Kind::Box;
+  b.geometry.box = {min, max};
+  b.element_size = h;
+  b.material = "steel";
+  return b;
+}
+
+BodySpec cylinder_body(const std::string& name, const Vec3& base, const Vec3& axis, double radius,
+                       double h) {
+  BodySpec b;
+  b.name = name;
+  b.geometry.kind = GeometrySpec::Kind::Cylinder;
+  b.geometry.cylinder = {base, axis, radius};
+  b.element_size = h;
+  b.material = "steel";
+  return b;
+}
+
+Case case_of(std::vector<BodySpec> bodies) {
+  sphfem::Case c;
+  c.name = "mesher_test";
+  c.bodies = std::move(bodies);
+  return c;
+}
+
+// ---- independent geometry -------------------------------------------------------------------
+
+double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return (b - a).dot((c - a).cross(d - a)) / 6.0;
+}
+
+// Six tetrahedra around the 0–6 diagonal (exact for hexes with planar faces).
+double hex_volume(const Model& m, const Hex& h) {
+  static constexpr int tets[6][2] = {{1, 2}, {2, 3}, {3, 7}, {7, 4}, {4, 5}, {5, 1}};
+  double v = 0;
+  for (const auto& t : tets)
+    v += tet_volume(m.x_n[h[0]], m.x_n[h[t[0]]], m.x_n[h[t[1]]], m.x_n[h[6]]);
+  return v;
+}
+
+// Smallest triple product of the three edges at a corner, taken along +ξ, +η, +ζ: positive
+// for a valid hex in gmsh order (bottom 0–3 counter-clockwise about +ζ, top 4–7 above).
+double min_corner_jacobian(const Model& m, const Hex& h) {
+  static constexpr int xi[8] = {-1, 1, 1, -1, -1, 1, 1, -1};
+  static constexpr int eta[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
+  static constexpr int zeta[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
+  const auto along = [&](int i, int dir) {
+    for (int j = 0; j < 8; ++j) {
+      const int diff = (xi[i] != xi[j]) + (eta[i] != eta[j]) + (zeta[i] != zeta[j]);
+      const bool in_dir = (dir == 0 && xi[i] != xi[j]) || (dir == 1 && eta[i] != eta[j]) ||
+                          (dir == 2 && zeta[i] != zeta[j]);
+      if (diff == 1 && in_dir) {
+        const int sign = dir == 0 ? xi[j] : dir == 1 ? eta[j] : zeta[j];
+        return Vec3(sign * (m.x_n[h[j]] - m.x_n[h[i]]));
+      }
+    }
+    return Vec3(Vec3::Zero());
+  };
+  double least = INFINITY;
+  for (int i = 0; i < 8; ++i)
+    least = std::min(least, along(i, 0).dot(along(i, 1).cross(along(i, 2))));
+  return least;
+}
+
+Vec3 quad_normal_area(const Model& m, const Quad& q) { // right-hand normal × area (planar)
+  return 0.5 * (m.x_n[q[2]] - m.x_n[q[0]]).cross(m.x_n[q[3]] - m.x_n[q[1]]);
+}
+
+Vec3 quad_centroid(const Model& m, const Quad& q) {
+  return 0.25 * (m.x_n[q[0]] + m.x_n[q[1]] + m.x_n[q[2]] + m.x_n[q[3]]);
+}
+
+Vec3 body_centroid(const Model& m, int body) {
+  Vec3 sum = Vec3::Zero();
+  int n = 0;
+  for (Index i = 0; i < m.node_count(); ++i)
+    if (m.body_n[i] == body) {
+      sum += m.x_n[i];
+      ++n;
+    }
+  return sum / n;
+}
+
+double total_volume(const Model& m, int body) {
+  double v = 0;
+  for (Index e = 0; e < m.element_count(); ++e)
+    if (m.body_e[e] == body)
+      v += hex_volume(m, m.hex_e[e]);
+  return v;
+}
+
+// Faces used by exactly one hex: the mesh's boundary, counted independently of the mesher.
+std::size_t boundary_face_count(const Model& m) {
+  static constexpr int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                      {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  std::map<std::array<Index, 4>, int> uses;
+  for (const Hex& h : m.hex_e)
+    for (const auto& f : faces) {
+      std::array<Index, 4> key{h[f[0]], h[f[1]], h[f[2]], h[f[3]]};
+      std::sort(key.begin(), key.end());
+      ++uses[key];
+    }
+  std::size_t boundary = 0;
+  for (const auto& [key, n] : uses) {
+    EXPECT_LE(n, 2);
+    boundary += n == 1;
+  }
+  return boundary;
+}
+
+// Checks every hex is valid and every named face is on the boundary, outward, and complete.
+void expect_valid_mesh(const Model& m) {
+  ASSERT_EQ(m.body_n.size(), m.x_n.size());
+  ASSERT_EQ(m.body_e.size(), m.hex_e.size());
+  std::vector<bool> used(m.x_n.size(), false);
+  for (const Hex& h : m.hex_e) {
+    for (const Index i : h) {
+      ASSERT_GE(i, 0);
+      ASSERT_LT(i, m.node_count());
+      used[i] = true;
+    }
+    EXPECT_GT(hex_volume(m, h), 0);
+    EXPECT_GT(min_corner_jacobian(m, h), 0);
+  }
+  EXPECT_TRUE(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
+
+  std::size_t named_quads = 0;
+  for (const auto& [name, quads] : m.face_sets) {
+    const std::string body = name.substr(0, name.find('/'));
+    const auto b = static_cast<int>(std::find(m.body_names.begin(), m.body_names.end(), body) -
+                                    m.body_names.begin());
+    ASSERT_LT(b, static_cast<int>(m.body_names.size())) << name;
+    const Vec3 centre = body_centroid(m, b);
+    std::set<Index> nodes;
+    for (const Quad& q : quads) {
+      EXPECT_GT(quad_normal_area(m, q).dot(quad_centroid(m, q) - centre), 0) << name;
+      for (const Index i : q) {
+        EXPECT_EQ(m.body_n[i], b) << name;
+        nodes.insert(i);
+      }
+    }
+    ASSERT_TRUE(m.node_sets.contains(name));
+    EXPECT_EQ(m.node_sets.at(name), std::vector<Index>(nodes.begin(), nodes.end())) << name;
+    named_quads += quads.size();
+  }
+  EXPECT_EQ(m.node_sets.size(), m.face_sets.size());
+  EXPECT_EQ(boundary_face_count(m), named_quads); // named faces cover the whole boundary
+}
+
+// ---- box ------------------------------------------------------------------------------------
+
+struct BoxCase {
+  Vec3 min, max;
+  double h;
+  std::array<int, 3> n; // expected divisions
+};
+
+void PrintTo(const BoxCase& c, std::ostream* out) {
+  *out << c.n[0] << "x" << c.n[1] << "x" << c.n[2] << " hexes";
+}
+
+class BoxMesh : public ::testing::TestWithParam<BoxCase> {};
+
+TEST_P(BoxMesh, IsStructuredWithExactVolumeAndNamedFaces) {
+  const BoxCase& p = GetParam();
+  const Model m = mesh_case(case_of({box_body("plate", p.min, p.max, p.h)}));
+  const auto [nx, ny, nz] = p.n;
+  const Vec3 size = p.max - p.min;
+
+  ASSERT_EQ(m.body_names, std::vector<std::string>{"plate"});
+  EXPECT_EQ(m.element_count(), nx * ny * nz);
+  EXPECT_EQ(m.node_count(), (nx + 1) * (ny + 1) * (nz + 1));
+  EXPECT_TRUE(std::all_of(m.body_n.begin(), m.body_n.end(), [](int b) { return b == 0; }));
+  EXPECT_TRUE(std::all_of(m.body_e.begin(), m.body_e.end(), [](int b) { return b == 0; }));
+  const double volume = size.prod();
+  EXPECT_NEAR(total_volume(m, 0), volume, 1e-12 * volume);
+  expect_valid_mesh(m);
+
+  const std::array<int, 3> n{nx, ny, nz};
+  const char* axes = "xyz";
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (const bool high : {false, true}) {
+      const std::string name = std::string("plate/") + axes[a] + (high ? "max" : "min");
+      ASSERT_TRUE(m.face_sets.contains(name)) << name;
+      const auto& quads = m.face_sets.at(name);
+      const auto& nodes = m.node_sets.at(name);
+      EXPECT_EQ(quads.size(), static_cast<std::size_t>(n[b] * n[c])) << name;
+      EXPECT_EQ(nodes.size(), static_cast<std::size_t>((n[b] + 1) * (n[c] + 1))) << name;
+      const double plane = high ? p.max[a] : p.min[a];
+      for (const Index i : nodes)
+        EXPECT_NEAR(m.x_n[i][a], plane, 1e-12 * size.norm()) << name;
+      Vec3 area = Vec3::Zero();
+      for (const Quad& q : quads)
+        area += quad_normal_area(m, q);
+      const Vec3 expected = (high ? 1.0 : -1.0) * size[b] * size[c] * Vec3::Unit(a);
+      EXPECT_NEAR((area - expected).norm(), 0, 1e-12 * size[b] * size[c]) << name;
+    }
+  }
+  EXPECT_EQ(m.face_sets.size(), 6u);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Boxes, BoxMesh,
+    ::testing::Values(BoxCase{{0, 0, 0}, {0.05, 0.04, 0.03}, 0.01, {5, 4, 3}},
+                      BoxCase{{0.1, -0.2, 0.3}, {0.147, -0.176, 0.312}, 0.01, {5, 2, 1}},
+                      BoxCase{{-1, -1, -1}, {1, 1, 1}, 5.0, {1, 1, 1}}));
+
+// ---- cylinder -------------------------------------------------------------------------------
+
+// Checks the mesh of body 0 against the cylinder it should fill.
+void expect_cylinder(const Model& m, const CylinderGeometry& g, double h) {
+  expect_valid_mesh(m);
+  const double length = g.axis.norm(), r = g.radius;
+  const Vec3 a = g.axis / length;
+  const auto axial = [&](Index i) { return (m.x_n[i] - g.base).dot(a); };
+  const auto radial = [&](Index i) {
+    const Vec3 d = m.x_n[i] - g.base;
+    return (d - d.dot(a) * a).norm();
+  };
+  for (const std::string face : {"base", "top", "side"})
+    ASSERT_TRUE(m.node_sets.contains("rod/" + face)) << face;
+  for (const Index i : m.node_sets.at("rod/side"))
+    EXPECT_NEAR(radial(i), r, 1e-9 * r);
+  for (const Index i : m.node_sets.at("rod/base"))
+    EXPECT_NEAR(axial(i), 0, 1e-12 * length);
+  for (const Index i : m.node_sets.at("rod/top"))
+    EXPECT_NEAR(axial(i), length, 1e-12 * length);
+  for (Index i = 0; i < m.node_count(); ++i) {
+    EXPECT_LE(radial(i), r * (1 + 1e-12));
+    EXPECT_GE(axial(i), -1e-12 * length);
+    EXPECT_LE(axial(i), length * (1 + 1e-12));
+  }
+
+  // Layers along the axis, and the rim polygon (its vertices are the side nodes on the base).
+  const int layers = std::max(1, static_cast<int>(std::lround(length / h)));
+  const std::size_t rim = m.node_sets.at("rod/side").size() / (layers + 1);
+  EXPECT_EQ(m.node_sets.at("rod/side").size(), rim * (layers + 1));
+  EXPECT_EQ(rim % 4, 0u);
+  // Straight-edged hexes fill the prism over the inscribed rim polygon, whose area A_N =
+  // (N/2) R² sin(2π/N) satisfies πR²(1 − (2π/N)²/6) ≤ A_N ≤ πR².
+  const double n = static_cast<double>(rim), exact = std::numbers::pi * r * r * length;
+  const double volume = total_volume(m, 0);
+  EXPECT_LE(volume, exact);
+  EXPECT_GE(volume, exact * (1 - std::pow(2 * std::numbers::pi / n, 2) / 6));
+  EXPECT_NEAR(volume, 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n) * length,
+              1e-12 * exact); // the rim nodes are equally spaced in angle
+
+  // Element size close to the requested one.
+  const double circumferential = 2 * std::numbers::pi * r / n;
+  EXPECT_GT(circumferential, 0.7 * h);
+  EXPECT_LT(circumferential, 1.4 * h);
+  EXPECT_NEAR(length / layers, h, 0.5 * h);
+}
+
+TEST(CylinderMesh, AlongZIsHexOnlyWithRoundSideAndFlatEnds) {
+  const CylinderGeometry g{{0, 0, 0}, {0, 0, 0.1}, 0.02};
+  const Model m = mesh_case(case_of({cylinder_body("rod", g.base, g.axis, g.radius, 0.005)}));
+  EXPECT_EQ(m.face_sets.size(), 3u);
+  expect_cylinder(m, g, 0.005);
+}
+
+TEST(CylinderMesh, ArbitraryAxesWork) {
+  for (const CylinderGeometry& g :
+       {CylinderGeometry{{1, 2, 3}, {0.08, 0, 0}, 0.01},
+        CylinderGeometry{{0, 0, 0}, {0, -0.05, 0}, 0.012},
+        CylinderGeometry{{-0.1, 0.2, 0}, Vec3(1, 2, -0.5).normalized() * 0.06, 0.015}}) {
+    SCOPED_TRACE(::testing::Message() << "axis " << g.axis.transpose());
+    const Model m = mesh_case(case_of({cylinder_body("rod", g.base, g.axis, g.radius, 0.004)}));
+    expect_cylinder(m, g, 0.004);
+  }
+}
+
+TEST(CylinderMesh, CoarseCylinderStillValid) {
+  const CylinderGeometry g{{0, 0, 0}, {0, 0, 0.01}, 0.004};
+  const Model m = mesh_case(case_of({cylinder_body("rod", g.base, g.axis, g.radius, 0.02)}));
+  expect_valid_mesh(m);
+  EXPECT_EQ(m.element_count(), 5); // core + 4 ring blocks, one layer
+}
+
+// ---- several bodies -------------------------------------------------------------------------
+
+TEST(MultiBody, BodiesHaveDistinctNodesAndRightIds) {
+  const double h = 0.01;
+  const Model m = mesh_case(case_of({box_body("a", {0, 0, 0}, {0.03, 0.02, 0.02}, h),
+                                     box_body("b", {0, 0, 0.02}, {0.03, 0.02, 0.05}, h),
+                                     cylinder_body("rod", {0, 0, 0.1}, {0, 0, 0.04}, 0.01, h)}));
+  ASSERT_EQ(m.body_names, (std::vector<std::string>{"a", "b", "rod"}));
+  expect_valid_mesh(m);
+  // Body ids are contiguous blocks in body order.
+  EXPECT_TRUE(std::is_sorted(m.body_n.begin(), m.body_n.end()));
+  EXPECT_TRUE(std::is_sorted(m.body_e.begin(), m.body_e.end()));
+  EXPECT_EQ(std::count(m.body_e.begin(), m.body_e.end(), 0), 3 * 2 * 2);
+  EXPECT_EQ(std::count(m.body_e.begin(), m.body_e.end(), 1), 3 * 2 * 3);
+  EXPECT_EQ(std::count(m.body_n.begin(), m.body_n.end(), 0), 4 * 3 * 3);
+  EXPECT_EQ(std::count(m.body_n.begin(), m.body_n.end(), 1), 4 * 3 * 4);
+  for (Index e = 0; e < m.element_count(); ++e)
+    for (const Index i : m.hex_e[e])
+      EXPECT_EQ(m.body_n[i], m.body_e[e]);
+  // The touching faces a/zmax and b/zmin share positions but not nodes.
+  const auto& top = m.node_sets.at("a/zmax");
+  const auto& bottom = m.node_sets.at("b/zmin");
+  ASSERT_EQ(top.size(), bottom.size());
+  std::vector<Index> shared;
+  std::set_intersection(top.begin(), top.end(), bottom.begin(), bottom.end(),
+                        std::back_inserter(shared));
+  EXPECT_TRUE(shared.empty());
+  for (const Index i : bottom)
+    EXPECT_NEAR(m.x_n[i].z(), 0.02, 1e-15);
+  EXPECT_EQ(m.face_sets.size(), 6u + 6u + 3u);
+  EXPECT_NEAR(total_volume(m, 0), 0.03 * 0.02 * 0.02, 1e-12 * 1.2e-5);
+  EXPECT_NEAR(total_volume(m, 1), 0.03 * 0.02 * 0.03, 1e-12 * 1.8e-5);
+}
+
+TEST(MultiBody, MeshingIsDeterministic) {
+  const Case c = case_of({cylinder_body("rod", {0, 0, 0}, {0.01, 0.02, 0.03}, 0.01, 0.004)});
+  const Model a = mesh_case(c), b = mesh_case(c);
+  EXPECT_EQ(a.x_n, b.x_n);
+  EXPECT_EQ(a.hex_e, b.hex_e);
+  EXPECT_EQ(a.face_sets, b.face_sets);
+}
+
+// ---- hex ordering -----------------------------------------------------------------------
+
+TEST(HexOrder, InvertedHexesAreMirroredToPositiveVolume) {
+  Model m;
+  m.x_n = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}, {0, 0, 3}, {2, 0, 3}, {2, 1, 3}, {0, 1, 3}};
+  const Hex good{0, 1, 2, 3, 4, 5, 6, 7};
+  EXPECT_EQ(mesher::with_positive_volume(m.x_n, good), good);
+  for (const Hex& inverted : {Hex{0, 3, 2, 1, 4, 7, 6, 5}, Hex{4, 5, 6, 7, 0, 1, 2, 3}}) {
+    EXPECT_LT(hex_volume(m, inverted), 0);
+    const Hex fixed = mesher::with_positive_volume(m.x_n, inverted);
+    EXPECT_NEAR(hex_volume(m, fixed), 6, 1e-14);
+    EXPECT_GT(min_corner_jacobian(m, fixed), 0);
+    EXPECT_TRUE(std::is_permutation(fixed.begin(), fixed.end(), good.begin()));
+  }
+  m.x_n[4] = m.x_n[5] = m.x_n[6] = m.x_n[7] = Vec3(1, 0.5, 0); // flattened
+  EXPECT_THROW(mesher::with_positive_volume(m.x_n, good), Error);
+}
+
+// ---- signature and errors -------------------------------------------------------------------
+
+TEST(MeshSignature, ChangesWithMeshInputsOnly) {
+  const Case base = case_of({box_body("plate", {0, 0, 0}, {0.5, 0.5, 0.012}, 0.004),
+                             cylinder_body("rod", {0, 0, 0.1}, {0, 0, 0.04}, 0.01, 0.002)});
+  const std::string s = mesh_signature(base);
+  EXPECT_EQ(mesh_signature(base), s);
+
+  Case other = base; // keys that do not affect the mesh
+  other.name = "renamed_case";
+  other.bodies[0].velocity = {0, 0, -300};
+  other.bodies[1].material = "aluminium";
+  other.time.end = 1;
+  EXPECT_EQ(mesh_signature(other), s);
+
+  const auto changed = [&](auto edit) {
+    Case c = base;
+    edit(c);
+    return mesh_signature(c) != s;
+  };
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].element_size = 0.005; }));
+  EXPECT_TRUE(changed([](Case& c) {
+    c.bodies[0].element_size = std::nextafter(c.bodies[0].element_size, 1.0); // full precision
+  }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].geometry.box.max.z() = 0.01; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[1].geometry.cylinder.radius = 0.011; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[1].geometry.cylinder.axis = {0, 0.04, 0}; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[1].geometry.cylinder.base.x() = 1e-3; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[1].name = "bolt"; }));
+  EXPECT_TRUE(changed([](Case& c) { std::swap(c.bodies[0], c.bodies[1]); }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies.pop_back(); }));
+}
+
+void expect_error_naming(const Case& c, const std::string& body) {
+  try {
+    mesh_case(c);
+    ADD_FAILURE() << "no error for body " << body;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'" + body + "'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MeshErrors, BadBodiesAreNamed) {
+  const BodySpec ok = box_body("ok", {0, 0, 0}, {1, 1, 1}, 0.5);
+  expect_error_naming(case_of({ok, box_body("flat", {0, 0, 0}, {1, 1, 0}, 0.1)}), "flat");
+  expect_error_naming(case_of({ok, box_body("zero_size", {0, 0, 0}, {1, 1, 1}, 0)}), "zero_size");
+  expect_error_naming(case_of({cylinder_body("thin", {0, 0, 0}, {0, 0, 1}, 0, 0.1)}), "thin");
+  expect_error_naming(case_of({cylinder_body("short", {0, 0, 0}, {0, 0, 0}, 1, 0.1)}), "short");
+  expect_error_naming(case_of({ok, ok}), "ok");
+  expect_error_naming(case_of({box_body("too_fine", {0, 0, 0}, {1, 1, 1}, 1e-7)}), "too_fine");
+}
+
+} // namespace
+} // namespace sphfem
+
+TEST(MeshThreads, MeshingLeavesTheOpenMPThreadCountAlone) {
+  // gmsh sets its own thread count on initialise; the solver's must survive meshing.
+  const int before = omp_get_max_threads();
+  sphfem::Case c;
+  sphfem::BodySpec body;
+  body.name = "b";
+  body.geometry.box = {sphfem::Vec3::Zero(), sphfem::Vec3(1, 1, 1)};
+  body.element_size = 0.5;
+  c.bodies.push_back(body);
+  sphfem::mesh_case(c);
+  EXPECT_EQ(omp_get_max_threads(), before);
+}
