@@ -82,9 +82,9 @@ void print_outputs(const fs::path& out, const nlohmann::json& summary) {
   std::cout << "results:  " << (out / "results.pvd").string() << "  (open in ParaView)\n"
             << "summary:  " << (out / "summary.json").string() << "\n"
             << "history:  " << (out / "history.csv").string() << "\n"
-            << "energy balance error " << summary["energy"]["balance_error"].get<double>()
-            << ", " << summary["steps"].get<long long>() << " steps in "
-            << summary["wall_s"].get<double>() << " s\n";
+            << "energy balance error " << summary["energy"]["balance_error"].get<double>() << ", "
+            << summary["steps"].get<long long>() << " steps in " << summary["wall_s"].get<double>()
+            << " s\n";
 }
 
 } // namespace

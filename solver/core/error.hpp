@@ -24,8 +24,8 @@ template <class... Parts> std::string concat(const Parts&... parts) {
 
 } // namespace sphfem
 
-#define SPHFEM_CHECK(condition, ...)                                                         \
-  do {                                                                                       \
-    if (!(condition))                                                                        \
-      throw ::sphfem::Error(::sphfem::detail::concat(__VA_ARGS__));                          \
+#define SPHFEM_CHECK(condition, ...)                                                               \
+  do {                                                                                             \
+    if (!(condition))                                                                              \
+      throw ::sphfem::Error(::sphfem::detail::concat(__VA_ARGS__));                                \
   } while (false)

@@ -14,8 +14,9 @@ double TimeFunction::operator()(double t) const {
     return table_.front().second;
   if (t >= table_.back().first)
     return table_.back().second;
-  const auto upper = std::upper_bound(table_.begin(), table_.end(), t,
-                                      [](double time, const auto& point) { return time < point.first; });
+  const auto upper =
+      std::upper_bound(table_.begin(), table_.end(), t,
+                       [](double time, const auto& point) { return time < point.first; });
   const auto lower = upper - 1;
   const double span = upper->first - lower->first;
   const double s = span > 0.0 ? (t - lower->first) / span : 1.0;

@@ -1,9 +1,10 @@
 // Hex8: the 8-node trilinear hexahedron as pure functions on its node arrays (METHOD.md §3).
-// Uniform-gradient (Flanagan–Belytschko 1981) one-point operators: b_I = ∂V/∂x_I, computed
-// exactly by 2×2×2 Gauss integration of ∫ ∂N_I/∂x dV (the integrand is at most cubic per
-// direction); hourglass shape vectors γ_αI; characteristic length V / largest face area.
+// Uniform-gradient (Flanagan–Belytschko 1981) one-point operators: b_I = ∂V/∂x_I in closed
+// form from the exact volume of the trilinear map; hourglass shape vectors γ_αI;
+// characteristic length V / largest face area.
 // Node order: gmsh hexahedron (solver/core/types.hpp). Units: SI.
-// Verified by tests/fem/hex8_test.cpp (volume, patch test, hourglass orthogonality).
+// Verified by tests/fem/hex8_test.cpp (b_I against Gauss quadrature of ∫ ∂N_I/∂x dV, patch
+// test, hourglass orthogonality).
 #pragma once
 
 #include "solver/core/types.hpp"
@@ -15,8 +16,8 @@ namespace sphfem {
 using HexPoints = std::array<Vec3, 8>;
 
 struct Hex8Gradient {
-  double volume = 0;      // m³
-  std::array<Vec3, 8> b;  // b_I = ∂V/∂x_I (m²); the uniform gradient is B_I = b_I / V
+  double volume = 0;     // m³
+  std::array<Vec3, 8> b; // b_I = ∂V/∂x_I (m²); the uniform gradient is B_I = b_I / V
 };
 
 Hex8Gradient hex8_gradient(const HexPoints& x);

@@ -37,8 +37,9 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
   double dt_min = std::numeric_limits<double>::infinity();
   Index first_inverted = n;
 
-#pragma omp parallel for schedule(static) reduction(min : dt_min, first_inverted) \
-    if (n > parallel_min_items / 16)
+#pragma omp parallel for schedule(static)                                                          \
+    reduction(min                                                                                  \
+              : dt_min, first_inverted) if (n > parallel_min_items / 16)
   for (Index k = 0; k < n; ++k) {
     const Hex& nodes = e.nodes_e[k];
     const ElasticConstants& mat = materials[e.material_e[k]];
@@ -88,7 +89,8 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
       hourglass_work += resist[a].dot(0.5 * (e.hg_mode_e[k][a] + mode[a]));
     e.e_hg_e[k] += dt * hourglass_work;
     if (stiffness) {
-      const double k_hg = fem.hourglass_coefficient * mat.p_wave_modulus() * std::cbrt(g.volume) / 4.0;
+      const double k_hg =
+          fem.hourglass_coefficient * mat.p_wave_modulus() * std::cbrt(g.volume) / 4.0;
       for (int a = 0; a < 4; ++a)
         resist[a] += dt * k_hg * mode[a];
     } else {

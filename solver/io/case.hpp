@@ -15,8 +15,8 @@ namespace sphfem {
 
 struct MaterialSpec {
   std::string name;
-  std::string model; // "elastic"
-  double density = 0;       // kg/m³
+  std::string model;         // "elastic"
+  double density = 0;        // kg/m³
   double youngs_modulus = 0; // Pa
   double poisson_ratio = 0;
 };
@@ -71,9 +71,9 @@ struct PressureLoadSpec {
 };
 
 struct TimeSpec {
-  double end = 0;             // s
-  double cfl = 0.9;           // fraction of the critical step
-  double output_interval = 0; // s between frames
+  double end = 0;              // s
+  double cfl = 0.9;            // fraction of the critical step
+  double output_interval = 0;  // s between frames
   double history_interval = 0; // s between history rows; 0 = every step
 };
 

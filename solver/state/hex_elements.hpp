@@ -11,20 +11,20 @@
 namespace sphfem {
 
 struct HexElements {
-  std::vector<Hex> nodes_e;     // connectivity, gmsh order
-  std::vector<int> material_e;  // index into the run's material table
-  std::vector<int> body_e;      // body id
-  std::vector<double> mass_e;   // kg, constant
-  std::vector<double> V0_e;     // reference volume, m³
-  std::vector<double> V_e;      // current volume, m³
-  std::vector<Mat3> S_e;        // deviatoric stress, Pa
-  std::vector<double> p_e;      // pressure (compression positive), Pa
-  std::vector<double> q_e;      // bulk viscosity pressure, Pa
-  std::vector<double> e_int_e;  // internal energy (stress and bulk-viscosity work), J
-  std::vector<double> e_hg_e;   // hourglass energy, J
+  std::vector<Hex> nodes_e;                   // connectivity, gmsh order
+  std::vector<int> material_e;                // index into the run's material table
+  std::vector<int> body_e;                    // body id
+  std::vector<double> mass_e;                 // kg, constant
+  std::vector<double> V0_e;                   // reference volume, m³
+  std::vector<double> V_e;                    // current volume, m³
+  std::vector<Mat3> S_e;                      // deviatoric stress, Pa
+  std::vector<double> p_e;                    // pressure (compression positive), Pa
+  std::vector<double> q_e;                    // bulk viscosity pressure, Pa
+  std::vector<double> e_int_e;                // internal energy (stress and bulk-viscosity work), J
+  std::vector<double> e_hg_e;                 // hourglass energy, J
   std::vector<std::array<Vec3, 4>> hg_e;      // hourglass mode forces now acting, N
   std::vector<std::array<Vec3, 4>> hg_mode_e; // mode velocities they were computed from, m/s
-  std::vector<std::array<Vec3, 8>> f_e;    // force of the element on each of its nodes, N
+  std::vector<std::array<Vec3, 8>> f_e;       // force of the element on each of its nodes, N
 
   Index size() const { return static_cast<Index>(nodes_e.size()); }
   // Total stress σ = S − (p + q) I, tension positive.

@@ -15,12 +15,12 @@ struct Model {
   std::vector<std::string> body_names;
 
   // Nodes (reference configuration).
-  std::vector<Vec3> x_n;     // m
-  std::vector<int> body_n;   // body id per node
+  std::vector<Vec3> x_n;   // m
+  std::vector<int> body_n; // body id per node
 
   // Hexahedra (gmsh node order, positive volume).
   std::vector<Hex> hex_e;
-  std::vector<int> body_e;   // body id per element
+  std::vector<int> body_e; // body id per element
 
   // Named faces, keyed "<body>/<face>" (e.g. "bar/zmin"): the nodes on the face and its
   // quadrilaterals with outward normals.

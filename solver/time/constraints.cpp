@@ -19,8 +19,8 @@ const std::vector<Index>& node_set(const Model& model, const std::string& body,
 // Unit normal of a planar face; a symmetry plane on a curved face is an input error.
 Vec3 plane_normal(const Model& model, const std::string& body, const std::string& face) {
   const auto it = model.face_sets.find(body + "/" + face);
-  SPHFEM_CHECK(it != model.face_sets.end() && !it->second.empty(), "model has no face ", body,
-               "/", face);
+  SPHFEM_CHECK(it != model.face_sets.end() && !it->second.empty(), "model has no face ", body, "/",
+               face);
   Vec3 sum = Vec3::Zero();
   std::vector<Vec3> normals;
   for (const Quad& q : it->second) {
@@ -93,6 +93,8 @@ ReactionTotals Constraints::apply(double t_half, double dt, const std::vector<do
   return totals;
 }
 
-void Constraints::apply_initial(std::vector<Vec3>& v) const { constrain(0.0, v); }
+void Constraints::apply_initial(std::vector<Vec3>& v) const {
+  constrain(0.0, v);
+}
 
 } // namespace sphfem

@@ -17,7 +17,7 @@
 namespace sphfem {
 
 struct ReactionTotals {
-  double work = 0;           // J, over the step
+  double work = 0;             // J, over the step
   Vec3 impulse = Vec3::Zero(); // N s, over the step
 };
 
@@ -48,8 +48,8 @@ private:
   std::vector<Symmetry> symmetry_;
   std::vector<Prescribed> prescribed_;
   std::vector<Index> fixed_;
-  std::vector<Index> nodes_;   // every constrained node once, sorted
-  std::vector<Vec3> v_free_;   // scratch: v_half of nodes_ before constraining
+  std::vector<Index> nodes_; // every constrained node once, sorted
+  std::vector<Vec3> v_free_; // scratch: v_half of nodes_ before constraining
 };
 
 } // namespace sphfem

@@ -30,7 +30,7 @@ std::vector<Probe> locate_probes(const Case& c, const Model& model) {
 }
 
 std::vector<std::string> probe_columns(const std::vector<Probe>& probes) {
-  static const char* quantities[] = {"ux",  "uy",  "uz",  "vx",  "vy",       "vz",       "sxx",
+  static const char* quantities[] = {"ux",  "uy",  "uz",  "vx",  "vy",  "vz",       "sxx",
                                      "syy", "szz", "sxy", "syz", "szx", "pressure", "von_mises"};
   std::vector<std::string> out;
   for (const auto& p : probes)

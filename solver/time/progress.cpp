@@ -19,8 +19,9 @@ void Progress::update(long long steps, double time, double dt) {
   const double rate = steps / elapsed;
   const double eta = time > 0 ? elapsed * (end_time_ - time) / time : 0.0;
   char text[160];
-  std::snprintf(text, sizeof text, "step %lld  t %.4e s (%.0f%%)  dt %.3e s  %.0f steps/s  ETA %.0f s",
-                steps, time, 100.0 * time / end_time_, dt, rate, eta);
+  std::snprintf(text, sizeof text,
+                "step %lld  t %.4e s (%.0f%%)  dt %.3e s  %.0f steps/s  ETA %.0f s", steps, time,
+                100.0 * time / end_time_, dt, rate, eta);
   if (terminal_) {
     std::fprintf(stderr, "\r%s\033[K", text);
     drawn_ = true;

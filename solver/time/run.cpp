@@ -52,7 +52,8 @@ void history_row(const Simulation& sim, double dt, const std::vector<Probe>& pro
   probe_values(probes, sim, row);
   for (const auto& b : sim.bodies())
     row.insert(row.end(), {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()});
-  row.insert(row.end(), {e.kinetic, e.internal, e.hourglass, e.contact, e.external_work, e.total()});
+  row.insert(row.end(),
+             {e.kinetic, e.internal, e.hourglass, e.contact, e.external_work, e.total()});
 }
 
 std::string format(const char* pattern, double value) {
@@ -72,12 +73,11 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   const auto probes = locate_probes(c, model);
   const Index nodes = sim.nodes().size(), elements = sim.elements().size();
   const double dt0 = sim.stable_dt();
-  log.line("case " + c.name + ": " + std::to_string(nodes) + " nodes, " +
-           std::to_string(elements) + " hexahedra, 0 particles; " + std::to_string(thread_count()) +
-           " threads");
+  log.line("case " + c.name + ": " + std::to_string(nodes) + " nodes, " + std::to_string(elements) +
+           " hexahedra, 0 particles; " + std::to_string(thread_count()) + " threads");
   log.line("stable step " + format("%.4e", dt0) + " s, about " +
-           format("%.0f", std::ceil(c.time.end / dt0)) + " steps to t = " +
-           format("%.4e", c.time.end) + " s");
+           format("%.0f", std::ceil(c.time.end / dt0)) +
+           " steps to t = " + format("%.4e", c.time.end) + " s");
   for (const auto& p : probes)
     log.line("probe " + p.name + " on node " + std::to_string(p.node) + " at (" +
              format("%.6g", p.position.x()) + ", " + format("%.6g", p.position.y()) + ", " +
@@ -101,8 +101,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   double dt = dt0;
   while (sim.time() < c.time.end - eps) {
     dt = std::min(sim.stable_dt(), c.time.end - sim.time());
-    SPHFEM_CHECK(dt > 1e-6 * dt0, "time step collapsed to ", dt, " s at t = ", sim.time(),
-                 " s (", dt0, " s at start): elements are being crushed; the run is unstable");
+    SPHFEM_CHECK(dt > 1e-6 * dt0, "time step collapsed to ", dt, " s at t = ", sim.time(), " s (",
+                 dt0, " s at start): elements are being crushed; the run is unstable");
     sim.step(dt);
     const bool last = sim.time() >= c.time.end - eps;
     if (last || sim.time() >= next_history - eps) {
@@ -124,7 +124,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     progress.update(sim.steps(), sim.time(), dt);
   }
   progress.finish();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   history.flush();
 
   const Energies e = sim.energies();
@@ -152,14 +153,14 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
         {"killed_particles", 0},
         {"eroded_elements", 0}};
   for (const auto& p : probes)
-    summary["probes"][p.name] = {
-        {"node", p.node}, {"position", {p.position.x(), p.position.y(), p.position.z()}}};
-  summary["units"] = {{"time", "s"},   {"energy", "J"}, {"mass", "kg"},
+    summary["probes"][p.name] = {{"node", p.node},
+                                 {"position", {p.position.x(), p.position.y(), p.position.z()}}};
+  summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
   write_text_atomically(out / "summary.json", summary.dump(2) + "\n");
 
-  log.line("done: " + std::to_string(sim.steps()) + " steps in " + format("%.2f", wall) +
-           " s (" + format("%.3g", summary["entity_steps_per_s"].get<double>()) +
+  log.line("done: " + std::to_string(sim.steps()) + " steps in " + format("%.2f", wall) + " s (" +
+           format("%.3g", summary["entity_steps_per_s"].get<double>()) +
            " entity-steps/s); energy balance error " + format("%.2e", sim.balance_error(e)));
   return summary;
 }

@@ -89,7 +89,8 @@ Simulation::Simulation(const Case& c, const Model& model)
   dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
   initial_energy_ = energies().kinetic;
   initial_momentum_ = momentum();
-  momentum_scale_ = deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); });
+  momentum_scale_ =
+      deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); });
 }
 
 void Simulation::step(double dt) {
@@ -149,14 +150,17 @@ Energies Simulation::energies() const {
   out.kinetic = deterministic_sum(nodes_.size(), 0.0, [&](Index i) {
     return 0.5 * nodes_.m_n[i] * nodes_.v_n[i].squaredNorm();
   });
-  out.internal = deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_int_e[k]; });
-  out.hourglass = deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_hg_e[k]; });
+  out.internal =
+      deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_int_e[k]; });
+  out.hourglass =
+      deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_hg_e[k]; });
   out.external_work = external_work_;
   return out;
 }
 
 double Simulation::balance_error(const Energies& e) const {
-  const double scale = std::max({e.kinetic + e.internal, std::abs(e.external_work), initial_energy_});
+  const double scale =
+      std::max({e.kinetic + e.internal, std::abs(e.external_work), initial_energy_});
   if (scale == 0)
     return 0;
   return std::abs(e.total() - e.external_work - initial_energy_) / scale;

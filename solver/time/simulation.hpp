@@ -32,8 +32,8 @@ struct Energies {
 
 struct BodyTotals {
   std::string name;
-  double mass = 0;                   // kg
-  Vec3 com_velocity = Vec3::Zero();  // m/s
+  double mass = 0;                  // kg
+  Vec3 com_velocity = Vec3::Zero(); // m/s
 };
 
 class Simulation {

@@ -72,9 +72,9 @@ TEST(Run, BarCaseWritesEveryOutput) {
   EXPECT_TRUE(summary["bodies"]["bar"].contains("com_velocity"));
 
   const auto history = sphfem::post::read_history_csv(out / "history.csv");
-  for (const char* column : {"time", "dt", "quarter.vz", "mid.szz", "body.bar.vz",
-                             "energy.kinetic", "energy.internal", "energy.hourglass",
-                             "energy.external_work", "energy.total"})
+  for (const char* column :
+       {"time", "dt", "quarter.vz", "mid.szz", "body.bar.vz", "energy.kinetic", "energy.internal",
+        "energy.hourglass", "energy.external_work", "energy.total"})
     EXPECT_TRUE(history.values.count(column)) << column;
   EXPECT_NEAR(history["time"].back(), 1.4e-5, 1e-15);
 
@@ -92,7 +92,6 @@ TEST(Run, BarCaseWritesEveryOutput) {
       arrival = t[i - 1] + (0.05 * peak + vz[i - 1]) / (vz[i - 1] - vz[i]) * (t[i] - t[i - 1]);
   const double predicted = 0.05 * 0.25e-6 + 0.05 / c_p;
   EXPECT_NEAR(arrival, predicted, 0.03 * predicted);
-
 
   // Every frame listed in the collection is complete and readable by VTK with its arrays.
   const auto frames = sphfem::post::read_pvd(out / "results.pvd");
@@ -122,8 +121,8 @@ TEST(Run, SolveReusesFreshModelAndRemeshesStaleOne) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(fs::last_write_time(out / "model.h5"), made);
   r = run_sphfem("solve " + bar_case + " -o " + out.string() +
-                 " --set time.end=2e-7 --set bodies.bar.element_size=0.0025",
-             dir);
+                     " --set time.end=2e-7 --set bodies.bar.element_size=0.0025",
+                 dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("stale"), std::string::npos);
   const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
@@ -166,9 +165,8 @@ TEST(Run, BadInputFailsWithOneLineAndWritesNothing) {
     const fs::path file = dir / "case.yaml";
     std::ofstream(file) << replaced(valid, bad.from, bad.to);
     for (const char* command : {"run", "mesh", "solve"}) {
-      const auto r = run_sphfem(std::string(command) + " " + file.string() + " -o " +
-                                (dir / "OUT").string(),
-                            dir);
+      const auto r = run_sphfem(
+          std::string(command) + " " + file.string() + " -o " + (dir / "OUT").string(), dir);
       EXPECT_NE(r.code, 0) << bad.name;
       EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad.name << ": " << r.err;
       EXPECT_NE(r.err.find(file.string() + ":"), std::string::npos) << bad.name << ": " << r.err;

@@ -36,8 +36,8 @@ TEST(FreeBlock, ConservesMomentumAndEnergy) {
 
   const Energies e = run.sim.energies();
   EXPECT_GT(e.internal, 0.01 * e.external_work); // the block really deforms
-  EXPECT_LT(run.sim.balance_error(e), 0.005) << "kinetic " << e.kinetic << " internal "
-                                             << e.internal << " work " << e.external_work;
+  EXPECT_LT(run.sim.balance_error(e), 0.005)
+      << "kinetic " << e.kinetic << " internal " << e.internal << " work " << e.external_work;
 
   // Independent check of the impulse: ∫p dt over the triangle pulse is p·4 µs on 1 cm × 1 cm
   // (follower load: the face stretches by Poisson, and the load is sampled once per step, so

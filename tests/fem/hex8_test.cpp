@@ -28,7 +28,9 @@ HexPoints distorted() {
   return x;
 }
 
-ElasticConstants steel() { return {7830.0, 207e9 / (3 * (1 - 0.6)), 207e9 / 2.6}; }
+ElasticConstants steel() {
+  return {7830.0, 207e9 / (3 * (1 - 0.6)), 207e9 / 2.6};
+}
 
 // Structured n³ block of unit spacing with every interior node displaced by a fixed pattern.
 struct Block {
@@ -39,14 +41,17 @@ struct Block {
 
 Block distorted_block(int n) {
   Block b;
-  auto id = [n](int i, int j, int k) { return static_cast<Index>((k * (n + 1) + j) * (n + 1) + i); };
+  auto id = [n](int i, int j, int k) {
+    return static_cast<Index>((k * (n + 1) + j) * (n + 1) + i);
+  };
   for (int k = 0; k <= n; ++k)
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) {
         const bool inside = i > 0 && i < n && j > 0 && j < n && k > 0 && k < n;
         Vec3 p(i, j, k);
         if (inside)
-          p += 0.2 * Vec3(std::sin(3.0 * (i + 2 * j + k)), std::cos(5.0 * (i + j)), std::sin(k + 7.0 * j));
+          p += 0.2 * Vec3(std::sin(3.0 * (i + 2 * j + k)), std::cos(5.0 * (i + j)),
+                          std::sin(k + 7.0 * j));
         b.x.push_back(p);
         b.interior.push_back(inside);
       }
@@ -79,7 +84,41 @@ HexElements make_elements(const std::vector<Hex>& hexes, double mass) {
   return e;
 }
 
+// Independent reference: b_I = ∫ ∂N_I/∂x dV by 2×2×2 Gauss quadrature, exact here because
+// adj(J) ∂N/∂ξ is at most cubic in each natural coordinate.
+Hex8Gradient gauss_gradient(const HexPoints& x) {
+  const double sign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                             {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  const double g = 1.0 / std::sqrt(3.0);
+  Hex8Gradient out;
+  for (auto& b : out.b)
+    b.setZero();
+  for (const auto& p : sign) {
+    std::array<Vec3, 8> dN;
+    Mat3 J = Mat3::Zero(); // row k: ∂x/∂ξ_k
+    for (int I = 0; I < 8; ++I) {
+      const auto& s = sign[I];
+      const double f[3] = {1 + s[0] * p[0] * g, 1 + s[1] * p[1] * g, 1 + s[2] * p[2] * g};
+      dN[I] = Vec3(s[0] * f[1] * f[2], f[0] * s[1] * f[2], f[0] * f[1] * s[2]) / 8.0;
+      J += dN[I] * x[I].transpose();
+    }
+    const Mat3 adj = J.determinant() * J.inverse();
+    out.volume += J.determinant();
+    for (int I = 0; I < 8; ++I)
+      out.b[I] += adj * dN[I];
+  }
+  return out;
+}
+
 } // namespace
+
+TEST(Hex8, GradientEqualsGaussQuadrature) {
+  const HexPoints x = distorted();
+  const auto closed = hex8_gradient(x), gauss = gauss_gradient(x);
+  EXPECT_NEAR(closed.volume, gauss.volume, 1e-14);
+  for (int I = 0; I < 8; ++I)
+    EXPECT_LT((closed.b[I] - gauss.b[I]).norm(), 1e-14) << "node " << I;
+}
 
 TEST(Hex8, UnitCubeVolumeAndGradient) {
   const auto g = hex8_gradient(unit_cube);

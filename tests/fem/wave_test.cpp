@@ -55,8 +55,8 @@ TEST(PlaneWave, TravelsAtPWaveSpeedWithImpedanceStress) {
     row.clear();
     probe_values(run.probes, run.sim, row);
     t.push_back(run.sim.time());
-    v_near.push_back(row[5]);  // near.vz
-    s_near.push_back(row[8]);  // near.szz
+    v_near.push_back(row[5]); // near.vz
+    s_near.push_back(row[8]); // near.szz
     v_far.push_back(row[14 + 5]);
   });
   ASSERT_NEAR(run.probes[0].position.z(), 0.025, 1e-12);
