@@ -219,13 +219,18 @@ TEST(Hex8, PatchTestOnDistortedMesh) {
   }
 }
 
+// A general deviatoric stress state, Pa (pressure 50 MPa is set separately).
+Mat3 prestress() {
+  Mat3 S;
+  S << 200e6, 30e6, -10e6, 30e6, -120e6, 20e6, -10e6, 20e6, -80e6;
+  return S;
+}
+
 TEST(Hex8, RigidRotationRotatesStressExactly) {
   // A pre-stressed cube spun a quarter turn about z in 200 exact rotation steps: the stress
   // must be the rotated initial stress (Jaumann, Hughes–Winget) with no spurious change.
-  const std::vector<Hex> hexes{{0, 1, 2, 3, 4, 5, 6, 7}};
-  HexElements e = make_elements(hexes, 7830.0);
-  Mat3 S0;
-  S0 << 200e6, 30e6, -10e6, 30e6, -120e6, 20e6, -10e6, 20e6, -80e6;
+  HexElements e = make_elements({{0, 1, 2, 3, 4, 5, 6, 7}}, 7830.0);
+  const Mat3 S0 = prestress();
   e.S_e[0] = S0;
   e.p_e[0] = 50e6;
   const int steps = 200;
@@ -253,10 +258,8 @@ TEST(Hex8, RigidRotationRotatesStressExactly) {
 TEST(Hex8, RigidTranslationLeavesStressAlone) {
   // A pre-stressed distorted element carried at 300 m/s for 100 steps: no strain, no stress
   // change, no hourglass force, no work.
-  const std::vector<Hex> hexes{{0, 1, 2, 3, 4, 5, 6, 7}};
-  HexElements e = make_elements(hexes, 7830.0);
-  Mat3 S0;
-  S0 << 200e6, 30e6, -10e6, 30e6, -120e6, 20e6, -10e6, 20e6, -80e6;
+  HexElements e = make_elements({{0, 1, 2, 3, 4, 5, 6, 7}}, 7830.0);
+  const Mat3 S0 = prestress();
   e.S_e[0] = S0;
   e.p_e[0] = 50e6;
   const HexPoints start = distorted();
