@@ -58,10 +58,11 @@ Model mesh_and_write(const Case& c, const fs::path& out, bool quiet) {
   fs::create_directories(out);
   write_model_h5(model, out / "model.h5");
   write_model_vtu(model, out / "model.vtu");
+  write_particles_vtu(model, out / "model_particles.vtu");
   if (!quiet)
     std::cerr << "mesh: " << model.node_count() << " nodes, " << model.element_count()
-              << " hexahedra → " << (out / "model.h5").string() << ", "
-              << (out / "model.vtu").string() << "\n";
+              << " hexahedra, " << model.particle_count() << " particles → "
+              << (out / "model.h5").string() << ", " << (out / "model.vtu").string() << "\n";
   return model;
 }
 

@@ -1,8 +1,10 @@
-// Meshes a case body by body with gmsh (one gmsh session per call) and computes the mesh
-// signature used to detect stale models. Verified by tests/mesher/mesher_test.cpp.
+// Meshes a case body by body: FE bodies with gmsh, SPH bodies as particle lattices (one gmsh
+// session per call, opened only if a body needs it), and computes the mesh signature used to
+// detect stale models. Verified by tests/mesher/mesher_test.cpp.
 #include "mesher/mesher.hpp"
 
 #include "mesher/gmsh_body.hpp"
+#include "mesher/lattice.hpp"
 #include "solver/core/error.hpp"
 
 #include <gmsh.h>
@@ -13,6 +15,9 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -51,17 +56,34 @@ mesher::Placement build_body(const BodySpec& body) {
     return mesher::build_box(body);
   case GeometrySpec::Kind::Cylinder:
     return mesher::build_cylinder(body);
+  case GeometrySpec::Kind::File:
+    throw Error("a geometry file can only be filled with particles (method sph)");
   }
   throw Error("unknown geometry kind");
 }
 
-void mesh_body(Model& model, const BodySpec& body, int body_id) {
+bool reads_file(const BodySpec& body) {
+  return body.geometry.kind == GeometrySpec::Kind::File;
+}
+
+bool needs_gmsh(const BodySpec& body) {
+  return body.method == Method::Fem || reads_file(body);
+}
+
+// Hexahedra and named faces for an FE body, particles for an SPH body.
+void mesh_body(Model& model, const Case& c, const BodySpec& body, int body_id) {
   try {
+    if (body.method == Method::Sph) {
+      mesher::append_particles(model, body_id, body, c.material(body.material).density);
+      model.spacing_b.push_back(body.spacing);
+      return;
+    }
     gmsh::clear();
     gmsh::model::add(body.name);
     const mesher::Placement placement = build_body(body);
     gmsh::model::mesh::generate(3);
     mesher::append_mesh(model, body_id, placement);
+    model.spacing_b.push_back(0);
   } catch (const std::string& gmsh_error) {
     throw Error(detail::concat("mesh: body '", body.name, "': gmsh: ", gmsh_error));
   } catch (const Error& e) {
@@ -84,8 +106,25 @@ std::string method_name(Method method) {
   switch (method) {
   case Method::Fem:
     return "fem";
+  case Method::Sph:
+    return "sph";
   }
   return "unknown";
+}
+
+// 64-bit FNV-1a hash of a file's bytes, in hex.
+std::string content_hash(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  SPHFEM_CHECK(in, "cannot read geometry file ", file.string());
+  std::uint64_t hash = 14695981039346656037ull;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i)
+      hash = (hash ^ static_cast<unsigned char>(buffer[i])) * 1099511628211ull;
+  }
+  std::ostringstream out;
+  out << std::hex << hash;
+  return out.str();
 }
 
 std::string geometry_signature(const GeometrySpec& g) {
@@ -95,8 +134,18 @@ std::string geometry_signature(const GeometrySpec& g) {
   case GeometrySpec::Kind::Cylinder:
     return "cylinder base=" + exact(g.cylinder.base) + " axis=" + exact(g.cylinder.axis) +
            " radius=" + exact(g.cylinder.radius);
+  case GeometrySpec::Kind::File:
+    return "file path=" + g.file.string() + " fnv1a64=" + content_hash(g.file);
   }
   return "unknown";
+}
+
+// The discretisation keys of a body. An SPH body's particles carry its material's density.
+std::string resolution_signature(const Case& c, const BodySpec& body) {
+  if (body.method == Method::Fem)
+    return "element_size=" + exact(body.element_size);
+  return "spacing=" + exact(body.spacing) + " h_factor=" + exact(body.h_factor) +
+         " density=" + exact(c.material(body.material).density);
 }
 
 } // namespace
@@ -123,9 +172,16 @@ Model mesh_case(const Case& c) {
     SPHFEM_CHECK(names.insert(body.name).second, "mesh: body name '", body.name, "' is used twice");
   Model model;
   model.signature = mesh_signature(c);
-  const GmshSession session;
+  std::unique_ptr<GmshSession> session; // (std::optional draws a false -Wmaybe-uninitialized)
   for (std::size_t b = 0; b < c.bodies.size(); ++b) {
-    mesh_body(model, c.bodies[b], static_cast<int>(b));
+    // A geometry file's script may set any gmsh option: it gets a session of its own.
+    if (reads_file(c.bodies[b]))
+      session.reset();
+    if (!session && needs_gmsh(c.bodies[b]))
+      session = std::make_unique<GmshSession>();
+    mesh_body(model, c, c.bodies[b], static_cast<int>(b));
+    if (reads_file(c.bodies[b]))
+      session.reset();
     model.body_names.push_back(c.bodies[b].name);
   }
   return model;
@@ -134,10 +190,14 @@ Model mesh_case(const Case& c) {
 std::string mesh_signature(const Case& c) {
   std::ostringstream out;
   out << "sphfem-mesh 1\n";
-  for (const BodySpec& body : c.bodies)
-    out << "body " << body.name << " method=" << method_name(body.method) << ' '
-        << geometry_signature(body.geometry) << " element_size=" << exact(body.element_size)
-        << '\n';
+  for (const BodySpec& body : c.bodies) {
+    try {
+      out << "body " << body.name << " method=" << method_name(body.method) << ' '
+          << geometry_signature(body.geometry) << ' ' << resolution_signature(c, body) << '\n';
+    } catch (const Error& e) {
+      throw Error(detail::concat("mesh: body '", body.name, "': ", e.what()));
+    }
+  }
   return out.str();
 }
 

@@ -1,5 +1,6 @@
-// Model generation: meshes the case's bodies into structured 8-node hexahedra with gmsh and
-// names their faces (node and face sets). Verified by tests/mesher/mesher_test.cpp.
+// Model generation: meshes the case's FE bodies into structured 8-node hexahedra with gmsh and
+// names their faces (node and face sets); fills its SPH bodies with particle lattices.
+// Verified by tests/mesher/mesher_test.cpp and tests/mesher/lattice_test.cpp.
 #pragma once
 
 #include "solver/io/case.hpp"
@@ -9,15 +10,23 @@
 
 namespace sphfem {
 
-// Meshes every body of the case into structured 8-node hexahedra with gmsh, in case order.
-// Box: n_i = max(1, round(L_i / element_size)) hexes per direction, faces xmin … zmax.
-// Cylinder: an O-grid (square core + 4 ring blocks) extruded along the axis, faces base
-// (at `base`), top, side. Hexes have positive volume in gmsh order; face-set quads have
-// outward right-hand normals. Throws sphfem::Error naming the body on any failure.
+// Discretises every body of the case, in case order.
+// FE bodies become structured 8-node hexahedra (gmsh):
+//   Box: n_i = max(1, round(L_i / element_size)) hexes per direction, faces xmin … zmax.
+//   Cylinder: an O-grid (square core + 4 ring blocks) extruded along the axis, faces base
+//   (at `base`), top, side. Hexes have positive volume in gmsh order; face-set quads have
+//   outward right-hand normals.
+// SPH bodies become particles on a cell-centred cubic lattice of spacing Δp (rules in
+// mesher/lattice.cpp): a box is tiled exactly; cylinders and geometry files keep the lattice
+// points inside them. Mass ρ0 · cell volume, density ρ0 (the material's), h = h_factor · Δp.
+// Model::spacing_b gets Δp for SPH bodies and 0 for FE bodies.
+// Throws sphfem::Error naming the body on any failure.
 Model mesh_case(const Case& c);
 
-// A stable text signature of everything in the case that affects the mesh (per body in
-// order: name, method, geometry kind and numbers, element_size; doubles round-trip exactly).
+// A stable text signature of everything in the case that affects the model (per body in
+// order: name, method, geometry kind and numbers, element_size or spacing, h_factor and
+// material density; a geometry file by its path and an FNV-1a hash of its bytes — files it
+// includes are not hashed). Doubles round-trip exactly. Throws if a geometry file is unreadable.
 std::string mesh_signature(const Case& c);
 
 } // namespace sphfem

@@ -68,7 +68,8 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
       elastic_update(mat, D, W, dt, e.S_e[k], e.p_e[k]);
       e.q_e[k] = bulk_viscosity(rho, length, c, trace_D, fem);
       const Mat3 sigma_mid = 0.5 * (sigma_old + e.sigma(k));
-      e.e_int_e[k] += dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
+      e.de_int_e[k] = dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
+      e.e_int_e[k] += e.de_int_e[k];
     }
     e.V_e[k] = g.volume;
 

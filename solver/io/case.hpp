@@ -33,20 +33,25 @@ struct CylinderGeometry {
 };
 
 struct GeometrySpec {
-  enum class Kind { Box, Cylinder };
+  enum class Kind { Box, Cylinder, File };
   Kind kind = Kind::Box;
   BoxGeometry box;
   CylinderGeometry cylinder;
+  std::filesystem::path file; // File: a gmsh .geo/.step/.brep closed volume (SPH bodies only)
 };
 
-enum class Method { Fem };
+enum class Method { Fem, Sph };
 
 // Named faces: a box has xmin, xmax, ymin, ymax, zmin, zmax; a cylinder has base, top, side.
+// FE bodies are meshed with element_size; SPH bodies are filled with a cubic lattice of
+// the given spacing Δp, smoothing length h = h_factor · Δp.
 struct BodySpec {
   std::string name;
   Method method = Method::Fem;
   GeometrySpec geometry;
-  double element_size = 0; // m
+  double element_size = 0; // m (fem)
+  double spacing = 0;      // m (sph)
+  double h_factor = 1.2;   // (sph)
   std::string material;
   Vec3 velocity = Vec3::Zero(); // initial velocity, m/s
 };
@@ -77,7 +82,7 @@ struct TimeSpec {
   double history_interval = 0; // s between history rows; 0 = every step
 };
 
-// Recorded at the body's node nearest to `point`.
+// Recorded at the body's node (FE) or particle (SPH) nearest to `point`.
 struct ProbeSpec {
   std::string name;
   std::string body;
@@ -91,6 +96,22 @@ struct FemSpec {
   double hourglass_coefficient = 0.1;
   double bulk_viscosity_linear = 0.06;   // C1
   double bulk_viscosity_quadratic = 1.5; // C0
+};
+
+// SPH options (METHOD.md §2). A term that is off is not computed at all.
+struct SphSpec {
+  bool artificial_viscosity = true;
+  double alpha = 1.0; // linear (bulk) coefficient
+  double beta = 2.0;  // quadratic coefficient
+  bool artificial_stress = true;
+  double epsilon = 0.3;      // artificial stress factor
+  double stress_exponent = 4; // n in f_ij^n
+  bool xsph = true;
+  double xsph_epsilon = 0.5;
+  bool variable_h = true; // dh/dt = −(h/3ρ) dρ/dt
+  bool gradient_correction = true; // velocity gradient L M⁻¹ (exact for linear fields)
+  double cfl = 0.3;       // Δt_SPH = cfl · min h/(c + |v|)
+  double skin = 0.1;      // neighbour-list skin as a fraction of the largest 2h
 };
 
 struct OutputSpec {
@@ -107,6 +128,7 @@ struct Case {
   std::vector<PressureLoadSpec> loads;
   std::vector<ProbeSpec> probes;
   FemSpec fem;
+  SphSpec sph;
   OutputSpec output;
 
   const MaterialSpec& material(const std::string& name) const;

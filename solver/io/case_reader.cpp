@@ -12,6 +12,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -75,6 +76,14 @@ Names face_names(GeometrySpec::Kind kind) {
     return {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
   return {"base", "top", "side"};
 }
+
+// Geometry files gmsh reads as solids: its own script format and OpenCASCADE's exchange formats.
+const Names geometry_file_types{".geo", ".step", ".stp", ".brep"};
+
+// Smoothing length h = h_factor · Δp. The default 1.2 is the usual 3-D choice: the cubic
+// B-spline's support 2h = 2.4 Δp then holds 57 particles of a full cubic lattice (itself
+// included). Below 1.0 (27 particles) the sums are too coarse; above 2.0 (257) too costly.
+constexpr double h_factor_low = 1.0, h_factor_high = 2.0;
 
 constexpr auto positive = [](double v) { return v > 0; };
 constexpr auto non_negative = [](double v) { return v >= 0; };
@@ -189,13 +198,15 @@ struct Entry {
 
 class Reader {
 public:
-  Reader(std::string file, std::vector<std::string> overrides)
-      : file_(std::move(file)), overrides_(std::move(overrides)) {}
+  // `folder`: where relative geometry file paths start (the case file's folder).
+  Reader(std::string file, std::filesystem::path folder, std::vector<std::string> overrides)
+      : file_(std::move(file)), folder_(std::move(folder)), overrides_(std::move(overrides)) {}
 
   Case read(const YAML::Node& root) const;
 
 private:
   std::string file_;
+  std::filesystem::path folder_;
   std::vector<std::string> overrides_; // key paths set by --set, in the order applied
 
   // "--set <path>" if the last override covering the node supplied or created it, else
@@ -232,6 +243,8 @@ private:
   template <class Ok>
   double number_or(const Located& map, const std::string& key, double fallback,
                    std::string_view rule, Ok ok) const;
+  bool flag(const Located& at) const;
+  bool term(const Located& at, const Names& parameters) const;
   std::string text(const Located& at) const;
   std::string one_of(const Located& at, const Names& names, std::string_view what) const;
   template <class T>
@@ -244,12 +257,14 @@ private:
   TimeSpec time(const Located& at) const;
   MaterialSpec material(const Entry& entry) const;
   BodySpec body(const Entry& entry, const std::vector<MaterialSpec>& materials) const;
-  GeometrySpec geometry(const Located& at) const;
+  GeometrySpec geometry(const Located& at, Method method) const;
+  std::filesystem::path geometry_file(const Located& at) const;
   const BodySpec& body_ref(const Located& item, const std::vector<BodySpec>& bodies) const;
   BoundaryConditionSpec boundary_condition(const Located& at, const Case& c) const;
   PressureLoadSpec load(const Located& at, const Case& c) const;
   std::vector<ProbeSpec> probes(const Located& at, const Case& c) const;
   FemSpec fem(const Located& at) const;
+  SphSpec sph(const Located& at) const;
   OutputSpec output(const Located& at) const;
 };
 
@@ -335,6 +350,27 @@ double Reader::number_or(const Located& map, const std::string& key, double fall
   return at.node.IsDefined() ? number(at, rule, ok) : fallback;
 }
 
+bool Reader::flag(const Located& at) const {
+  bool value = false;
+  if (!at.node.IsScalar() || at.node.Tag() == "!" || !YAML::convert<bool>::decode(at.node, value))
+    fail(at, "must be true or false, got " + describe(at.node));
+  return value;
+}
+
+// A physics term: false (off), true (on with default parameters) or a map of some of its
+// `parameters` (on; the caller reads them). Returns whether the term is on.
+bool Reader::term(const Located& at, const Names& parameters) const {
+  if (at.node.IsMap()) {
+    check_map(at, parameters);
+    return true;
+  }
+  bool on = false;
+  if (!at.node.IsScalar() || at.node.Tag() == "!" || !YAML::convert<bool>::decode(at.node, on))
+    fail(at, "must be false, true or a map of " + comma_list(parameters) + ", got " +
+                 describe(at.node));
+  return on;
+}
+
 std::string Reader::text(const Located& at) const {
   if (!at.node.IsScalar())
     fail(at, "must be a string, got " + describe(at.node));
@@ -413,13 +449,41 @@ MaterialSpec Reader::material(const Entry& entry) const {
   return spec;
 }
 
-GeometrySpec Reader::geometry(const Located& at) const {
-  check_map(at, {"box", "cylinder"});
+// A geometry file path, relative to the case file's folder; the file must exist. Returns the
+// absolute path.
+std::filesystem::path Reader::geometry_file(const Located& at) const {
+  namespace fs = std::filesystem;
+  const std::string name = text(at);
+  if (name.empty())
+    fail(at, "must name a geometry file, got an empty string");
+  const fs::path given(name);
+  const std::string type = given.extension().string();
+  if (std::ranges::find(geometry_file_types, type) == geometry_file_types.end())
+    fail(at, "unsupported geometry file type '" + type +
+                 "' (expected one of: " + comma_list(geometry_file_types) + ")");
+  const fs::path path = fs::absolute(folder_ / given).lexically_normal();
+  std::error_code status;
+  if (!fs::is_regular_file(path, status))
+    fail(at, "geometry file '" + name + "' not found (looked for " + path.string() + ")");
+  return path;
+}
+
+GeometrySpec Reader::geometry(const Located& at, Method method) const {
+  check_map(at, {"box", "cylinder", "file"});
   const Located box = child(at, "box");
   const Located cylinder = child(at, "cylinder");
-  if (box.node.IsDefined() == cylinder.node.IsDefined())
-    fail(at, "must have exactly one of: box, cylinder");
+  const Located file = child(at, "file");
+  if (box.node.IsDefined() + cylinder.node.IsDefined() + file.node.IsDefined() != 1)
+    fail(at, "must have exactly one of: box, cylinder, file");
   GeometrySpec spec;
+  if (file.node.IsDefined()) {
+    if (method != Method::Sph)
+      fail(file, "a geometry file is only supported for sph bodies (a fem body needs a box or "
+                 "a cylinder)");
+    spec.kind = GeometrySpec::Kind::File;
+    spec.file = geometry_file(file);
+    return spec;
+  }
   if (box.node.IsDefined()) {
     check_map(box, {"min", "max"});
     spec.kind = GeometrySpec::Kind::Box;
@@ -444,14 +508,26 @@ GeometrySpec Reader::geometry(const Located& at) const {
 
 BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& materials) const {
   const Located& at = entry.value;
-  check_map(at, {"method", "geometry", "element_size", "material", "velocity"});
+  check_map(at,
+            {"method", "geometry", "element_size", "spacing", "h_factor", "material", "velocity"});
   BodySpec spec;
   spec.name = entry.name;
-  spec.method = choice<Method>(required(at, "method", "discretisation: fem"), "method",
-                               {{"fem", Method::Fem}});
-  spec.geometry = geometry(required(at, "geometry", "box or cylinder"));
-  spec.element_size =
-      number(required(at, "element_size", "element edge length, m"), "> 0 m", positive);
+  spec.method = choice<Method>(required(at, "method", "discretisation: fem or sph"), "method",
+                               {{"fem", Method::Fem}, {"sph", Method::Sph}});
+  spec.geometry = geometry(required(at, "geometry", "box, cylinder or file"), spec.method);
+  if (spec.method == Method::Fem) {
+    for (const std::string key : {"spacing", "h_factor"})
+      if (const Located sph_only = child(at, key); sph_only.node.IsDefined())
+        fail(sph_only, "only allowed for method sph (a fem body takes element_size)");
+    spec.element_size =
+        number(required(at, "element_size", "element edge length, m"), "> 0 m", positive);
+  } else {
+    if (const Located fem_only = child(at, "element_size"); fem_only.node.IsDefined())
+      fail(fem_only, "only allowed for method fem (an sph body takes spacing)");
+    spec.spacing = number(required(at, "spacing", "particle spacing Δp, m"), "> 0 m", positive);
+    spec.h_factor = number_or(at, "h_factor", spec.h_factor, "in [1.0, 2.0]",
+                              [](double v) { return v >= h_factor_low && v <= h_factor_high; });
+  }
   Names material_names;
   for (const MaterialSpec& material : materials)
     material_names.push_back(material.name);
@@ -480,6 +556,10 @@ BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& 
                                     {"velocity", BoundaryType::Velocity},
                                     {"symmetry", BoundaryType::Symmetry}});
   const BodySpec& body = body_ref(at, c.bodies);
+  if (body.method == Method::Sph)
+    fail(child(at, "body"), "'" + body.name +
+                                "' is an SPH body: boundary conditions on particles are not "
+                                "supported yet");
   spec.body = body.name;
   spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
   const Located velocity = child(at, "velocity");
@@ -510,6 +590,10 @@ PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
   one_of(required(at, "type", "load type: pressure"), {"pressure"}, "load type");
   PressureLoadSpec spec;
   const BodySpec& body = body_ref(at, c.bodies);
+  if (body.method == Method::Sph)
+    fail(child(at, "body"), "'" + body.name +
+                                "' is an SPH body: pressure loads on particles are not supported "
+                                "yet");
   spec.body = body.name;
   spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
   spec.pressure = number(required(at, "pressure", "pressure, Pa, positive pushes into the body"));
@@ -518,6 +602,7 @@ PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
   return spec;
 }
 
+// A probe may name an FE body (nearest node) or an SPH body (nearest particle).
 std::vector<ProbeSpec> Reader::probes(const Located& at, const Case& c) const {
   std::vector<ProbeSpec> out;
   for (const Located& item : items(at)) {
@@ -558,20 +643,50 @@ FemSpec Reader::fem(const Located& at) const {
   return spec;
 }
 
+// Each of the three optional terms is absent (on, defaults), false (off), true (on, defaults)
+// or a map of its parameters (on; missing ones default).
+SphSpec Reader::sph(const Located& at) const {
+  check_map(at, {"artificial_viscosity", "artificial_stress", "xsph", "variable_smoothing_length",
+                 "cfl", "skin"});
+  SphSpec spec;
+  if (const Located av = child(at, "artificial_viscosity"); av.node.IsDefined()) {
+    spec.artificial_viscosity = term(av, {"alpha", "beta"});
+    if (av.node.IsMap()) {
+      spec.alpha = number_or(av, "alpha", spec.alpha, ">= 0", non_negative);
+      spec.beta = number_or(av, "beta", spec.beta, ">= 0", non_negative);
+    }
+  }
+  if (const Located as = child(at, "artificial_stress"); as.node.IsDefined()) {
+    spec.artificial_stress = term(as, {"epsilon", "n"});
+    if (as.node.IsMap()) {
+      spec.epsilon = number_or(as, "epsilon", spec.epsilon, ">= 0", non_negative);
+      spec.stress_exponent = number_or(as, "n", spec.stress_exponent, "> 0", positive);
+    }
+  }
+  if (const Located xsph = child(at, "xsph"); xsph.node.IsDefined()) {
+    spec.xsph = term(xsph, {"epsilon"});
+    if (xsph.node.IsMap())
+      spec.xsph_epsilon = number_or(xsph, "epsilon", spec.xsph_epsilon, ">= 0", non_negative);
+  }
+  if (const Located variable = child(at, "variable_smoothing_length"); variable.node.IsDefined())
+    spec.variable_h = flag(variable);
+  spec.cfl = number_or(at, "cfl", spec.cfl, "in (0, 1]", [](double v) { return v > 0 && v <= 1; });
+  spec.skin = number_or(at, "skin", spec.skin, ">= 0 (a fraction of the largest 2h)", non_negative);
+  return spec;
+}
+
 OutputSpec Reader::output(const Located& at) const {
   check_map(at, {"frames"});
   OutputSpec spec;
   if (const Located frames = child(at, "frames"); frames.node.IsDefined())
-    if (!frames.node.IsScalar() || frames.node.Tag() == "!" ||
-        !YAML::convert<bool>::decode(frames.node, spec.frames))
-      fail(frames, "must be true or false, got " + describe(frames.node));
+    spec.frames = flag(frames);
   return spec;
 }
 
 Case Reader::read(const YAML::Node& node) const {
   const Located root{node, ""};
   check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
-                   "fem", "output"});
+                   "fem", "sph", "output"});
   Case c;
   const Located name = required(root, "name", "case name");
   c.name = text(name);
@@ -593,6 +708,8 @@ Case Reader::read(const YAML::Node& node) const {
     c.probes = probes(list, c);
   if (const Located section = child(root, "fem"); section.node.IsDefined())
     c.fem = fem(section);
+  if (const Located section = child(root, "sph"); section.node.IsDefined())
+    c.sph = sph(section);
   if (const Located section = child(root, "output"); section.node.IsDefined())
     c.output = output(section);
   return c;
@@ -608,7 +725,9 @@ Case read_case_text(const std::string& yaml_text, const std::filesystem::path& f
     std::vector<std::string> override_paths;
     for (const std::string& text : overrides)
       override_paths.push_back(apply_override(root, text));
-    Case result = Reader(name, std::move(override_paths)).read(root);
+    std::error_code no_folder;
+    const std::filesystem::path folder = std::filesystem::absolute(file, no_folder).parent_path();
+    Case result = Reader(name, folder, std::move(override_paths)).read(root);
     result.file = file;
     return result;
   } catch (const Error&) {

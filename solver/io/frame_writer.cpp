@@ -46,10 +46,77 @@ struct FrameWriter::Grid {
   vtkSmartPointer<vtkDoubleArray> displacement, velocity, stress, von_mises, pressure, density;
 };
 
+struct FrameWriter::Cloud {
+  vtkSmartPointer<vtkUnstructuredGrid> grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkSmartPointer<vtkPoints> points = vtkSmartPointer<vtkPoints>::New();
+  vtkSmartPointer<vtkDoubleArray> displacement, velocity, stress, von_mises, pressure, density, h;
+  vtkSmartPointer<vtkIntArray> neighbours, body_id, id;
+};
+
+namespace {
+
+vtkSmartPointer<vtkDoubleArray> stress_array(vtkIdType count) {
+  auto a = double_array("stress", 6, count);
+  const char* components[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+  for (int c = 0; c < 6; ++c)
+    a->SetComponentName(c, components[c]);
+  return a;
+}
+
+void set_stress(vtkDoubleArray* stress, vtkIdType k, const Mat3& s) {
+  const double tensor[6] = {s(0, 0), s(1, 1), s(2, 2), s(0, 1), s(1, 2), s(0, 2)};
+  stress->SetTuple(k, tensor);
+}
+
+void write_vtu(const std::filesystem::path& file, vtkUnstructuredGrid* grid) {
+  write_atomically(file, [&](const std::filesystem::path& temporary) {
+    auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(grid);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    writer->SetCompressorTypeToLZ4();
+    SPHFEM_CHECK(writer->Write() == 1, file.string(), ": cannot write frame");
+  });
+}
+
+} // namespace
+
 FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& nodes,
-                         const HexElements& e)
-    : out_dir_(out_dir), grid_(std::make_unique<Grid>()) {
+                         const HexElements& e, const Particles& particles)
+    : out_dir_(out_dir) {
   std::filesystem::create_directories(out_dir_ / "frames");
+  if (particles.size() > 0) {
+    cloud_ = std::make_unique<Cloud>();
+    auto& c = *cloud_;
+    const vtkIdType n = particles.size();
+    c.points->SetDataTypeToDouble();
+    c.points->SetNumberOfPoints(n);
+    c.grid->SetPoints(c.points);
+    auto cells = vtkSmartPointer<vtkCellArray>::New();
+    cells->AllocateExact(n, n);
+    for (vtkIdType i = 0; i < n; ++i)
+      cells->InsertNextCell(1, &i);
+    c.grid->SetCells(VTK_VERTEX, cells);
+    c.displacement = double_array("displacement", 3, n);
+    c.velocity = double_array("velocity", 3, n);
+    c.stress = stress_array(n);
+    c.von_mises = double_array("von_mises", 1, n);
+    c.pressure = double_array("pressure", 1, n);
+    c.density = double_array("density", 1, n);
+    c.h = double_array("h", 1, n);
+    c.neighbours = int_array("neighbours", particles.neighbours_p);
+    c.body_id = int_array("body_id", particles.body_p);
+    c.id = int_array("id", std::vector<int>(particles.id_p.begin(), particles.id_p.end()));
+    auto* pd = c.grid->GetPointData();
+    for (auto& a : {c.displacement, c.velocity, c.stress, c.von_mises, c.pressure, c.density, c.h})
+      pd->AddArray(a);
+    for (auto& a : {c.neighbours, c.body_id, c.id})
+      pd->AddArray(a);
+  }
+  if (e.size() == 0)
+    return;
+  grid_ = std::make_unique<Grid>();
   const vtkIdType n = nodes.size(), ne = e.size();
   auto& g = *grid_;
   g.points->SetDataTypeToDouble();
@@ -65,10 +132,7 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
 
   g.displacement = double_array("displacement", 3, n);
   g.velocity = double_array("velocity", 3, n);
-  g.stress = double_array("stress", 6, ne);
-  const char* components[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
-  for (int c = 0; c < 6; ++c)
-    g.stress->SetComponentName(c, components[c]);
+  g.stress = stress_array(ne);
   g.von_mises = double_array("von_mises", 1, ne);
   g.pressure = double_array("pressure", 1, ne);
   g.density = double_array("density", 1, ne);
@@ -84,38 +148,55 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
 
 FrameWriter::~FrameWriter() = default;
 
-void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e) {
-  auto& g = *grid_;
-  for (Index i = 0; i < nodes.size(); ++i) {
-    const Vec3& x = nodes.x_n[i];
-    const Vec3 u = x - nodes.x0_n[i];
-    g.points->SetPoint(i, x.x(), x.y(), x.z());
-    g.displacement->SetTuple3(i, u.x(), u.y(), u.z());
-    g.velocity->SetTuple3(i, nodes.v_n[i].x(), nodes.v_n[i].y(), nodes.v_n[i].z());
-  }
-  g.points->Modified();
-  for (Index k = 0; k < e.size(); ++k) {
-    const Mat3 s = e.S_e[k] - e.p_e[k] * Mat3::Identity();
-    const double tensor[6] = {s(0, 0), s(1, 1), s(2, 2), s(0, 1), s(1, 2), s(0, 2)};
-    g.stress->SetTuple(k, tensor);
-    g.von_mises->SetValue(k, von_mises(s));
-    g.pressure->SetValue(k, e.p_e[k]);
-    g.density->SetValue(k, e.mass_e[k] / e.V_e[k]);
-  }
-
+void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
+                        const Particles& particles) {
   char name[32];
-  std::snprintf(name, sizeof name, "fe_%06d.vtu", frame_count());
-  const std::filesystem::path file = out_dir_ / "frames" / name;
-  write_atomically(file, [&](const std::filesystem::path& temporary) {
-    auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-    writer->SetFileName(temporary.c_str());
-    writer->SetInputData(g.grid);
-    writer->SetDataModeToAppended();
-    writer->EncodeAppendedDataOff();
-    writer->SetCompressorTypeToLZ4();
-    SPHFEM_CHECK(writer->Write() == 1, file.string(), ": cannot write frame");
-  });
-  frames_.emplace_back(time, std::string("frames/") + name);
+  if (grid_) {
+    auto& g = *grid_;
+    for (Index i = 0; i < nodes.size(); ++i) {
+      const Vec3& x = nodes.x_n[i];
+      const Vec3 u = x - nodes.x0_n[i];
+      g.points->SetPoint(i, x.x(), x.y(), x.z());
+      g.displacement->SetTuple3(i, u.x(), u.y(), u.z());
+      g.velocity->SetTuple3(i, nodes.v_n[i].x(), nodes.v_n[i].y(), nodes.v_n[i].z());
+    }
+    g.points->Modified();
+    for (Index k = 0; k < e.size(); ++k) {
+      const Mat3 s = e.S_e[k] - e.p_e[k] * Mat3::Identity();
+      set_stress(g.stress, k, s);
+      g.von_mises->SetValue(k, von_mises(s));
+      g.pressure->SetValue(k, e.p_e[k]);
+      g.density->SetValue(k, e.mass_e[k] / e.V_e[k]);
+    }
+    std::snprintf(name, sizeof name, "fe_%06d.vtu", frame_count_);
+    write_vtu(out_dir_ / "frames" / name, g.grid);
+    entries_.push_back({time, 0, std::string("frames/") + name});
+  }
+  if (cloud_) {
+    auto& c = *cloud_;
+    const auto& p = particles;
+    for (Index i = 0; i < p.size(); ++i) {
+      const Vec3& x = p.x_p[i];
+      const Vec3 u = x - p.x0_p[i];
+      c.points->SetPoint(i, x.x(), x.y(), x.z());
+      c.displacement->SetTuple3(i, u.x(), u.y(), u.z());
+      c.velocity->SetTuple3(i, p.v_p[i].x(), p.v_p[i].y(), p.v_p[i].z());
+      const Mat3 s = p.S_p[i] - p.p_p[i] * Mat3::Identity();
+      set_stress(c.stress, i, s);
+      c.von_mises->SetValue(i, von_mises(s));
+      c.pressure->SetValue(i, p.p_p[i]);
+      c.density->SetValue(i, p.rho_p[i]);
+      c.h->SetValue(i, p.h_p[i]);
+      c.neighbours->SetValue(i, p.neighbours_p[i]);
+      c.body_id->SetValue(i, p.body_p[i]);
+      c.id->SetValue(i, p.id_p[i]);
+    }
+    c.points->Modified();
+    std::snprintf(name, sizeof name, "sph_%06d.vtu", frame_count_);
+    write_vtu(out_dir_ / "frames" / name, c.grid);
+    entries_.push_back({time, 1, std::string("frames/") + name});
+  }
+  ++frame_count_;
   write_collection();
 }
 
@@ -125,9 +206,9 @@ void FrameWriter::write_collection() const {
   xml << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "  <Collection>\n";
-  for (const auto& [time, file] : frames_)
-    xml << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\"" << file
-        << "\"/>\n";
+  for (const auto& entry : entries_)
+    xml << "    <DataSet timestep=\"" << entry.time << "\" group=\"\" part=\"" << entry.part
+        << "\" file=\"" << entry.file << "\"/>\n";
   xml << "  </Collection>\n</VTKFile>\n";
   write_text_atomically(out_dir_ / "results.pvd", xml.str());
 }

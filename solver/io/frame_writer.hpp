@@ -1,13 +1,18 @@
-// Result frames for ParaView: one VTU per frame (XML, appended raw binary, LZ4) with the FE
-// mesh in its current configuration, and results.pvd listing the complete frames with their
-// times. VTK 9.1 has no .pvd writer: the small XML collection is written here, atomically.
-// Point data: displacement (m), velocity (m/s), body_id; cell data: stress (symmetric tensor
-// XX YY ZZ XY YZ XZ, Pa), von_mises (Pa), pressure (Pa), density (kg/m³), body_id.
+// Result frames for ParaView: per frame one VTU (XML, appended raw binary, LZ4) with the FE
+// mesh in its current configuration (frames/fe_*.vtu, part 0) and one with the particles as
+// vertices (frames/sph_*.vtu, part 1), each only if the model has them; results.pvd lists the
+// complete frames with their times. VTK 9.1 has no .pvd writer: the small XML collection is
+// written here, atomically.
+// FE point data: displacement (m), velocity (m/s), body_id; cell data: stress (symmetric
+// tensor XX YY ZZ XY YZ XZ, Pa), von_mises (Pa), pressure (Pa), density (kg/m³), body_id.
+// Particle point data: displacement, velocity, stress, von_mises, pressure, density, h (m),
+// neighbours (count within 2h), body_id, id (index in model.h5).
 // Verified by tests/e2e/run_test.cpp (frames re-read with VTK's reader).
 #pragma once
 
 #include "solver/state/hex_elements.hpp"
 #include "solver/state/nodes.hpp"
+#include "solver/state/particles.hpp"
 
 #include <filesystem>
 #include <memory>
@@ -20,19 +25,28 @@ namespace sphfem {
 
 class FrameWriter {
 public:
-  FrameWriter(const std::filesystem::path& out_dir, const Nodes& nodes, const HexElements& e);
+  FrameWriter(const std::filesystem::path& out_dir, const Nodes& nodes, const HexElements& e,
+              const Particles& particles);
   ~FrameWriter();
 
-  void write(double time, const Nodes& nodes, const HexElements& e);
-  int frame_count() const { return static_cast<int>(frames_.size()); }
+  void write(double time, const Nodes& nodes, const HexElements& e, const Particles& particles);
+  int frame_count() const { return frame_count_; }
 
 private:
   void write_collection() const;
 
   std::filesystem::path out_dir_;
   struct Grid;
-  std::unique_ptr<Grid> grid_;
-  std::vector<std::pair<double, std::string>> frames_; // time, relative file name
+  struct Cloud;
+  std::unique_ptr<Grid> grid_;   // null without elements
+  std::unique_ptr<Cloud> cloud_; // null without particles
+  struct Entry {
+    double time;
+    int part;
+    std::string file; // relative to out_dir
+  };
+  std::vector<Entry> entries_;
+  int frame_count_ = 0;
 };
 
 } // namespace sphfem

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <system_error>
 
 #ifndef SPHFEM_VERSION
@@ -159,16 +160,35 @@ template <class Sets> void write_sets(const H5::Group& group, const Sets& sets, 
   }
 }
 
+void write_particles(const H5::H5File& file, const Model& m) {
+  const std::size_t p = m.x_p.size();
+  SPHFEM_CHECK(m.m_p.size() == p && m.rho_p.size() == p && m.h_p.size() == p &&
+                   m.body_p.size() == p,
+               "particle arrays do not match the ", p, " particle positions");
+  const H5::Group particles = file.createGroup("particles");
+  write_attribute(write_array(particles, "x", flatten(m.x_p), 3), "units", "m");
+  write_attribute(write_array(particles, "mass", m.m_p), "units", "kg");
+  write_attribute(write_array(particles, "density", m.rho_p), "units", "kg/m^3");
+  write_attribute(write_array(particles, "h", m.h_p), "units", "m");
+  write_array(particles, "body_id", m.body_p);
+}
+
 void write_model(const H5::H5File& file, const Model& m) {
   SPHFEM_CHECK(m.body_n.size() == m.x_n.size(), "node body ids do not match the nodes");
   SPHFEM_CHECK(m.body_e.size() == m.hex_e.size(), "element body ids do not match the elements");
+  SPHFEM_CHECK(m.spacing_b.empty() || m.spacing_b.size() == m.body_names.size(), "there are ",
+               m.spacing_b.size(), " body spacings for ", m.body_names.size(), " bodies");
   write_attribute(file, "format", format_name);
   write_attribute(file, "format_version", format_version);
   write_attribute(file, "generator", std::string("sphfem ") + SPHFEM_VERSION);
   write_attribute(file, "units", "SI (m, kg, s)");
   write_attribute(file, "signature", m.signature);
 
-  write_strings(file.createGroup("bodies"), "names", m.body_names);
+  const H5::Group bodies = file.createGroup("bodies");
+  write_strings(bodies, "names", m.body_names);
+  const std::vector<double> spacing =
+      m.spacing_b.empty() ? std::vector<double>(m.body_names.size(), 0.0) : m.spacing_b;
+  write_attribute(write_array(bodies, "spacing", spacing), "units", "m");
   const H5::Group nodes = file.createGroup("nodes");
   write_attribute(write_array(nodes, "x", flatten(m.x_n), 3), "units", "m");
   write_array(nodes, "body_id", m.body_n);
@@ -178,6 +198,7 @@ void write_model(const H5::H5File& file, const Model& m) {
   write_array(elements, "body_id", m.body_e);
   write_sets(file.createGroup("node_sets"), m.node_sets, 0);
   write_sets(file.createGroup("face_sets"), m.face_sets, 4);
+  write_particles(file, m);
 }
 
 // ---- reading ------------------------------------------------------------------------------
@@ -301,11 +322,57 @@ void check_header(const H5::H5File& file) {
                " is not supported (this build reads version ", format_version, ")");
 }
 
+// Checks that every value is finite and, unless `zero_ok`, positive.
+void check_values(const std::vector<double>& values, const std::string& what, bool zero_ok) {
+  for (std::size_t i = 0; i < values.size(); ++i)
+    SPHFEM_CHECK(std::isfinite(values[i]) && (values[i] > 0 || (zero_ok && values[i] == 0)), what,
+                 " holds ", values[i], " at index ", i, " (expected ", zero_ok ? ">= 0" : "> 0",
+                 ")");
+}
+
+// /bodies/spacing, or 0 for every body in a file written before it existed.
+std::vector<double> read_spacing(const H5::H5File& file, std::size_t bodies) {
+  if (!file.nameExists("bodies/spacing"))
+    return std::vector<double>(bodies, 0.0);
+  std::vector<double> spacing = read_array<double>(file, "bodies/spacing");
+  SPHFEM_CHECK(spacing.size() == bodies, "bodies/spacing has ", spacing.size(), " entries for ",
+               bodies, " bodies");
+  check_values(spacing, "bodies/spacing", true);
+  return spacing;
+}
+
+// /particles, or none in a file written before it existed.
+void read_particles(const H5::H5File& file, Model& m) {
+  if (!file.nameExists("particles"))
+    return;
+  m.x_p = read_points(file, "particles/x");
+  m.m_p = read_array<double>(file, "particles/mass");
+  m.rho_p = read_array<double>(file, "particles/density");
+  m.h_p = read_array<double>(file, "particles/h");
+  m.body_p = read_array<Index>(file, "particles/body_id");
+  const std::size_t p = m.x_p.size();
+  for (const auto& [name, size] : {std::pair{"particles/mass", m.m_p.size()},
+                                   {"particles/density", m.rho_p.size()},
+                                   {"particles/h", m.h_p.size()},
+                                   {"particles/body_id", m.body_p.size()}})
+    SPHFEM_CHECK(size == p, name, " has ", size, " entries for ", p, " particles");
+  for (std::size_t i = 0; i < p; ++i)
+    SPHFEM_CHECK(m.x_p[i].allFinite(), "particles/x holds a non-finite position at index ", i);
+  check_values(m.m_p, "particles/mass", false);
+  check_values(m.rho_p, "particles/density", false);
+  check_values(m.h_p, "particles/h", false);
+  check_indices(m.body_p, m.body_names.size(), "particles/body_id");
+  for (std::size_t i = 0; i < p; ++i)
+    SPHFEM_CHECK(m.spacing_b[m.body_p[i]] > 0, "particles/body_id holds body ", m.body_p[i], " ('",
+                 m.body_names[m.body_p[i]], "', spacing 0: not an SPH body) at index ", i);
+}
+
 Model read_model(const H5::H5File& file) {
   check_header(file);
   Model m;
   m.signature = read_string_attribute(file, "signature");
   m.body_names = read_strings(file, "bodies/names");
+  m.spacing_b = read_spacing(file, m.body_names.size());
   m.x_n = read_points(file, "nodes/x");
   m.body_n = read_array<Index>(file, "nodes/body_id");
   m.hex_e = read_rows<8>(file, "elements/hex");
@@ -329,6 +396,7 @@ Model read_model(const H5::H5File& file) {
     for (const Quad& q : m.face_sets[name])
       check_indices(q, n, "face set '" + name + "'");
   }
+  read_particles(file, m);
   return m;
 }
 

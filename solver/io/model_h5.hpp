@@ -4,12 +4,21 @@
 // Layout (format "sphfem-model", format_version 1; indices 0-based int32, coordinates float64):
 //   /                 attributes format, format_version (int), generator, units, signature
 //   /bodies/names     B variable-length strings; body ids index this list
+//   /bodies/spacing   B lattice spacings Δp (0 for FE bodies), attribute units = "m"
 //   /nodes/x          N×3 reference positions, attribute units = "m"
 //   /nodes/body_id    N
 //   /elements/hex     E×8 connectivity, attribute node_order = "gmsh hexahedron"
 //   /elements/body_id E
 //   /node_sets/<body>/<face>  sorted node indices of set "<body>/<face>"
 //   /face_sets/<body>/<face>  F×4 quads, right-hand normal out of the body
+//   /particles/x       P×3 SPH particle positions, units "m"
+//   /particles/mass    P, units "kg"
+//   /particles/density P, units "kg/m^3"
+//   /particles/h       P smoothing lengths, units "m"
+//   /particles/body_id P
+// /particles and /bodies/spacing were added without a version change: the writer always writes
+// them (P may be 0), and a file without them (written before SPH bodies existed) reads as a
+// model with no particles and spacing 0 for every body.
 // A set's name maps to an HDF5 path below /node_sets or /face_sets ("bar/zmin" is dataset
 // zmin in group bar). Large datasets are chunked and compressed (shuffle + deflate).
 #pragma once
@@ -21,11 +30,13 @@
 namespace sphfem {
 
 // Writes `file` + ".tmp" and renames it over `file`, so a crash never leaves a torn file.
-// Throws sphfem::Error naming the file if it cannot be written.
+// An empty Model::spacing_b is written as 0 for every body. Throws sphfem::Error naming the
+// file if it cannot be written or the model's arrays do not match.
 void write_model_h5(const Model& m, const std::filesystem::path& file);
 
-// Reads and checks a model file (format, version, shapes, index ranges); any problem is a
-// sphfem::Error naming the file and what is wrong or missing.
+// Reads and checks a model file (format, version, shapes, index ranges; particles: positive
+// finite mass, density and h, finite positions, bodies with a positive spacing); any problem is
+// a sphfem::Error naming the file and what is wrong or missing.
 Model read_model_h5(const std::filesystem::path& file);
 
 } // namespace sphfem

@@ -1,5 +1,6 @@
-// Builds a vtkUnstructuredGrid from the Model (gmsh hex order is VTK_HEXAHEDRON's order) and
-// writes it with vtkXMLUnstructuredGridWriter. Verified by tests/io/model_h5_test.cpp.
+// Builds vtkUnstructuredGrids from the Model (hexahedra: gmsh hex order is VTK_HEXAHEDRON's
+// order; particles: vertex cells) and writes them with vtkXMLUnstructuredGridWriter. Verified by
+// tests/io/model_h5_test.cpp.
 #include "solver/io/model_vtu.hpp"
 
 #include "solver/core/error.hpp"
@@ -9,6 +10,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
+#include <vtkDoubleArray.h>
 #include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
@@ -17,6 +19,9 @@
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+
+#include <functional>
+#include <system_error>
 
 namespace sphfem {
 namespace {
@@ -32,27 +37,46 @@ vtkNew<vtkIntArray> int_array(const std::string& name, const std::vector<int>& v
   return array;
 }
 
-vtkNew<vtkUnstructuredGrid> make_grid(const Model& m) {
+vtkNew<vtkDoubleArray> double_array(const std::string& name, const std::vector<double>& values) {
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name.c_str());
+  array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    array->SetValue(static_cast<vtkIdType>(i), values[i]);
+  return array;
+}
+
+vtkNew<vtkPoints> make_points(const std::vector<Vec3>& x) {
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(m.node_count());
-  for (Index i = 0; i < m.node_count(); ++i)
-    points->SetPoint(i, m.x_n[i].data());
+  points->SetNumberOfPoints(static_cast<vtkIdType>(x.size()));
+  for (std::size_t i = 0; i < x.size(); ++i)
+    points->SetPoint(static_cast<vtkIdType>(i), x[i].data());
+  return points;
+}
 
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfValues(m.element_count() + 1);
-  connectivity->SetNumberOfValues(8 * static_cast<vtkIdType>(m.element_count()));
-  for (Index e = 0; e <= m.element_count(); ++e)
-    offsets->SetValue(e, 8 * static_cast<vtkIdType>(e));
-  for (Index e = 0; e < m.element_count(); ++e)
-    for (int i = 0; i < 8; ++i)
-      connectivity->SetValue(8 * static_cast<vtkIdType>(e) + i, m.hex_e[e][i]);
-  vtkNew<vtkCellArray> cells;
-  cells->SetData(offsets, connectivity);
+// Cells of `size` points each, the points in order: cell c holds points size·c … size·c + size−1
+// of `connectivity`.
+vtkNew<vtkCellArray> make_cells(vtkIdType cells, int size,
+                                const std::function<vtkIdType(vtkIdType)>& connectivity) {
+  vtkNew<vtkIdTypeArray> offsets, points;
+  offsets->SetNumberOfValues(cells + 1);
+  points->SetNumberOfValues(size * cells);
+  for (vtkIdType c = 0; c <= cells; ++c)
+    offsets->SetValue(c, size * c);
+  for (vtkIdType i = 0; i < size * cells; ++i)
+    points->SetValue(i, connectivity(i));
+  vtkNew<vtkCellArray> array;
+  array->SetData(offsets, points);
+  return array;
+}
 
+vtkNew<vtkUnstructuredGrid> make_grid(const Model& m) {
   vtkNew<vtkUnstructuredGrid> grid;
-  grid->SetPoints(points);
-  grid->SetCells(VTK_HEXAHEDRON, cells);
+  grid->SetPoints(make_points(m.x_n));
+  grid->SetCells(VTK_HEXAHEDRON, make_cells(m.element_count(), 8, [&m](vtkIdType i) {
+                   return static_cast<vtkIdType>(m.hex_e[i / 8][i % 8]);
+                 }));
   grid->GetPointData()->AddArray(int_array("body_id", m.body_n));
   grid->GetCellData()->AddArray(int_array("body_id", m.body_e));
   for (const auto& [name, nodes] : m.node_sets) {
@@ -61,6 +85,18 @@ vtkNew<vtkUnstructuredGrid> make_grid(const Model& m) {
       flag.at(static_cast<std::size_t>(i)) = 1;
     grid->GetPointData()->AddArray(int_array("set:" + name, flag));
   }
+  return grid;
+}
+
+// The particle arrays must all have one entry per particle.
+vtkNew<vtkUnstructuredGrid> make_particle_grid(const Model& m) {
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(make_points(m.x_p));
+  grid->SetCells(VTK_VERTEX, make_cells(m.particle_count(), 1, [](vtkIdType i) { return i; }));
+  grid->GetPointData()->AddArray(int_array("body_id", m.body_p));
+  grid->GetPointData()->AddArray(double_array("mass", m.m_p));
+  grid->GetPointData()->AddArray(double_array("h", m.h_p));
+  grid->GetPointData()->AddArray(double_array("density", m.rho_p));
   return grid;
 }
 
@@ -77,10 +113,8 @@ void keep_error(vtkObject*, unsigned long, void* client_data, void* call_data) {
   first = text;
 }
 
-} // namespace
-
-void write_model_vtu(const Model& m, const fs::path& file) {
-  const vtkNew<vtkUnstructuredGrid> grid = make_grid(m);
+// Appended raw binary, LZ4, via a temporary file; VTK's errors become one sphfem::Error.
+void write_grid(vtkUnstructuredGrid* grid, const fs::path& file) {
   std::string vtk_error;
   vtkNew<vtkCallbackCommand> on_error;
   on_error->SetCallback(keep_error);
@@ -102,6 +136,27 @@ void write_model_vtu(const Model& m, const fs::path& file) {
   } catch (const Error& e) {
     throw Error(detail::concat("cannot write model file ", file, ": ", e.what()));
   }
+}
+
+} // namespace
+
+void write_model_vtu(const Model& m, const fs::path& file) {
+  write_grid(make_grid(m), file);
+}
+
+void write_particles_vtu(const Model& m, const fs::path& file) {
+  if (m.particle_count() == 0) {
+    std::error_code status;
+    if (fs::remove(file, status); status)
+      throw Error(
+          detail::concat("cannot remove the stale particle file ", file, ": ", status.message()));
+    return;
+  }
+  const std::size_t p = m.x_p.size();
+  if (m.m_p.size() != p || m.rho_p.size() != p || m.h_p.size() != p || m.body_p.size() != p)
+    throw Error(detail::concat("cannot write model file ", file,
+                               ": particle arrays do not match the ", p, " particle positions"));
+  write_grid(make_particle_grid(m), file);
 }
 
 } // namespace sphfem

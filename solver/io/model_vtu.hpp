@@ -1,5 +1,7 @@
 // model.vtu: the meshed Model as a VTK XML unstructured grid (hex cells, body ids and one
-// 0/1 point array "set:<body>/<face>" per node set) to inspect in ParaView. Verified by
+// 0/1 point array "set:<body>/<face>" per node set) to inspect in ParaView; and, only when the
+// model has SPH particles, model_particles.vtu next to it: one VTK_VERTEX cell per particle,
+// point data body_id, mass (kg), h (m) and density (kg/m³). Verified by
 // tests/io/model_h5_test.cpp.
 #pragma once
 
@@ -12,5 +14,9 @@ namespace sphfem {
 // Appended raw binary, LZ4-compressed; written to `file` + ".tmp" and renamed. Throws
 // sphfem::Error naming the file if it cannot be written.
 void write_model_vtu(const Model& m, const std::filesystem::path& file);
+
+// The particles, written the same way. When the model has no particles nothing is written and
+// an existing `file` is removed, so no particles of an earlier model are left behind.
+void write_particles_vtu(const Model& m, const std::filesystem::path& file);
 
 } // namespace sphfem

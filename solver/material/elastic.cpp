@@ -10,12 +10,16 @@ ElasticConstants ElasticConstants::from(const MaterialSpec& m) {
   return {m.density, E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))};
 }
 
+void elastic_deviator_update(const ElasticConstants& c, const Mat3& D, const Mat3& W, double dt,
+                             Mat3& S) {
+  const Mat3 deviatoric = D - (D.trace() / 3.0) * Mat3::Identity();
+  S = jaumann_rotate(S, W, dt) + (2.0 * c.shear * dt) * deviatoric;
+}
+
 void elastic_update(const ElasticConstants& c, const Mat3& D, const Mat3& W, double dt, Mat3& S,
                     double& p) {
-  const double volumetric = D.trace();
-  const Mat3 deviatoric = D - (volumetric / 3.0) * Mat3::Identity();
-  S = jaumann_rotate(S, W, dt) + (2.0 * c.shear * dt) * deviatoric;
-  p -= c.bulk * volumetric * dt;
+  elastic_deviator_update(c, D, W, dt, S);
+  p -= c.bulk * D.trace() * dt;
 }
 
 } // namespace sphfem

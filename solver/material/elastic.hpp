@@ -19,8 +19,15 @@ struct ElasticConstants {
   double p_wave_modulus() const { return bulk + 4.0 * shear / 3.0; }
 };
 
-// Advances deviatoric stress S and pressure p (Pa) over dt with strain rate D and spin W.
+// Advances the deviatoric stress S (Pa) over dt with strain rate D and spin W.
+void elastic_deviator_update(const ElasticConstants& c, const Mat3& D, const Mat3& W, double dt,
+                             Mat3& S);
+// Advances S and the pressure p (Pa, rate form −K tr D) over dt: the hexahedra's update.
 void elastic_update(const ElasticConstants& c, const Mat3& D, const Mat3& W, double dt, Mat3& S,
                     double& p);
+// Pressure from density, p = K (ρ/ρ0 − 1): the particles' update (they carry ρ).
+inline double elastic_pressure(const ElasticConstants& c, double rho) {
+  return c.bulk * (rho / c.density - 1.0);
+}
 
 } // namespace sphfem

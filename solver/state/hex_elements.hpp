@@ -21,6 +21,7 @@ struct HexElements {
   std::vector<double> p_e;                    // pressure (compression positive), Pa
   std::vector<double> q_e;                    // bulk viscosity pressure, Pa
   std::vector<double> e_int_e;                // internal energy (stress and bulk-viscosity work), J
+  std::vector<double> de_int_e;               // its increment over the last step, J
   std::vector<double> e_hg_e;                 // hourglass energy, J
   std::vector<std::array<Vec3, 4>> hg_e;      // hourglass mode forces now acting, N
   std::vector<std::array<Vec3, 4>> hg_mode_e; // mode velocities they were computed from, m/s

@@ -10,6 +10,14 @@
 
 namespace sphfem {
 
+// The layer of an SPH body's particles that forms one of its named faces, each with the
+// face area it carries (its tributary area), for loads and boundary conditions.
+struct ParticleFace {
+  std::vector<Index> particles; // indices into the particle arrays
+  std::vector<double> area;     // tributary area of each, m²
+  Vec3 normal = Vec3::Zero();   // outward unit normal of the (flat) face
+};
+
 struct Model {
   // Bodies in case order; node and element body ids index this list.
   std::vector<std::string> body_names;
@@ -22,16 +30,29 @@ struct Model {
   std::vector<Hex> hex_e;
   std::vector<int> body_e; // body id per element
 
+  // SPH particles (reference configuration), body by body in case order.
+  std::vector<Vec3> x_p;     // m
+  std::vector<double> m_p;   // mass, kg
+  std::vector<double> rho_p; // initial density, kg/m³
+  std::vector<double> h_p;   // smoothing length, m
+  std::vector<int> body_p;   // body id per particle
+  // Lattice spacing Δp per body (0 for FE bodies), m.
+  std::vector<double> spacing_b;
+
   // Named faces, keyed "<body>/<face>" (e.g. "bar/zmin"): the nodes on the face and its
   // quadrilaterals with outward normals.
   std::map<std::string, std::vector<Index>> node_sets;
   std::map<std::string, std::vector<Quad>> face_sets;
+
+  // Named faces of SPH bodies, keyed "<body>/<face>" like the node sets.
+  std::map<std::string, ParticleFace> particle_faces;
 
   // Signature of the mesh-relevant case keys this model was made from (staleness check).
   std::string signature;
 
   Index node_count() const { return static_cast<Index>(x_n.size()); }
   Index element_count() const { return static_cast<Index>(hex_e.size()); }
+  Index particle_count() const { return static_cast<Index>(x_p.size()); }
 };
 
 } // namespace sphfem

@@ -7,23 +7,34 @@
 
 namespace sphfem {
 
+namespace {
+
+// Index of the point of `body` nearest to `target`, or -1 if the body has none.
+Index nearest(const std::vector<Vec3>& points, const std::vector<int>& body_of, int body,
+              const Vec3& target) {
+  Index best = -1;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (Index i = 0; i < static_cast<Index>(points.size()); ++i) {
+    const double d = (points[i] - target).squaredNorm();
+    if (body_of[i] == body && d < best_distance) {
+      best_distance = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+} // namespace
+
 std::vector<Probe> locate_probes(const Case& c, const Model& model) {
   std::vector<Probe> out;
   for (const auto& spec : c.probes) {
     const int body = c.body_index(spec.body);
-    Probe probe{spec.name, -1, spec.point, Vec3::Zero()};
-    double best = std::numeric_limits<double>::infinity();
-    for (Index i = 0; i < model.node_count(); ++i) {
-      if (model.body_n[i] != body)
-        continue;
-      const double d = (model.x_n[i] - spec.point).squaredNorm();
-      if (d < best) {
-        best = d;
-        probe.node = i;
-      }
-    }
-    SPHFEM_CHECK(probe.node >= 0, "probes.", spec.name, ": body ", spec.body, " has no nodes");
-    probe.position = model.x_n[probe.node];
+    Probe probe{spec.name, c.bodies[body].method == Method::Sph, -1, spec.point, Vec3::Zero()};
+    const auto& points = probe.on_particle ? model.x_p : model.x_n;
+    probe.node = nearest(points, probe.on_particle ? model.body_p : model.body_n, body, spec.point);
+    SPHFEM_CHECK(probe.node >= 0, "probes.", spec.name, ": body ", spec.body, " is empty");
+    probe.position = points[probe.node];
     out.push_back(probe);
   }
   return out;
@@ -42,10 +53,20 @@ std::vector<std::string> probe_columns(const std::vector<Probe>& probes) {
 void probe_values(const std::vector<Probe>& probes, const Simulation& sim,
                   std::vector<double>& row) {
   const auto& nodes = sim.nodes();
+  const auto& part = sim.particle_system().particles();
   for (const auto& p : probes) {
-    const Vec3 u = nodes.x_n[p.node] - nodes.x0_n[p.node];
-    const Vec3& v = nodes.v_n[p.node];
-    const Mat3 s = nodal_stress(sim.elements(), sim.node_gather(), p.node);
+    Vec3 u, v;
+    Mat3 s;
+    if (p.on_particle) {
+      const Index i = sim.particle_system().index_of(p.node);
+      u = part.x_p[i] - part.x0_p[i];
+      v = part.v_p[i];
+      s = part.S_p[i] - part.p_p[i] * Mat3::Identity();
+    } else {
+      u = nodes.x_n[p.node] - nodes.x0_n[p.node];
+      v = nodes.v_n[p.node];
+      s = nodal_stress(sim.elements(), sim.node_gather(), p.node);
+    }
     row.insert(row.end(), {u.x(), u.y(), u.z(), v.x(), v.y(), v.z(), s(0, 0), s(1, 1), s(2, 2),
                            s(0, 1), s(1, 2), s(2, 0), -s.trace() / 3.0, von_mises(s)});
   }

@@ -1,5 +1,7 @@
-// Probes: named points whose histories are recorded, each on the node of its body nearest to
-// the requested point (ties: the lowest node index). Columns <probe>.ux|uy|uz (m),
+// Probes: named points whose histories are recorded, each on the node (FE body) or particle
+// (SPH body) of its body nearest to the requested point in the reference configuration (ties:
+// the lowest index). Stress at a node is the volume-weighted mean of its elements', at a
+// particle its own. Columns <probe>.ux|uy|uz (m),
 // vx|vy|vz (m/s), sxx|syy|szz|sxy|syz|szx, pressure, von_mises (Pa).
 #pragma once
 
@@ -14,7 +16,8 @@ namespace sphfem {
 
 struct Probe {
   std::string name;
-  Index node = -1;
+  bool on_particle = false;
+  Index node = -1; // node index, or particle id (model.h5 order) when on_particle
   Vec3 requested = Vec3::Zero(); // the case's point, m
   Vec3 position = Vec3::Zero();  // the node's reference position, m
 };

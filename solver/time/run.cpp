@@ -72,21 +72,25 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   Simulation sim(c, model);
   const auto probes = locate_probes(c, model);
   const Index nodes = sim.nodes().size(), elements = sim.elements().size();
+  const Index particles = sim.particle_system().particles().size();
   const double dt0 = sim.stable_dt();
   log.line("case " + c.name + ": " + std::to_string(nodes) + " nodes, " + std::to_string(elements) +
-           " hexahedra, 0 particles; " + std::to_string(thread_count()) + " threads");
+           " hexahedra, " + std::to_string(particles) + " particles; " +
+           std::to_string(thread_count()) + " threads");
   log.line("stable step " + format("%.4e", dt0) + " s, about " +
            format("%.0f", std::ceil(c.time.end / dt0)) +
            " steps to t = " + format("%.4e", c.time.end) + " s");
   for (const auto& p : probes)
-    log.line("probe " + p.name + " on node " + std::to_string(p.node) + " at (" +
+    log.line("probe " + p.name + " on " + (p.on_particle ? "particle " : "node ") +
+             std::to_string(p.node) + " at (" +
              format("%.6g", p.position.x()) + ", " + format("%.6g", p.position.y()) + ", " +
              format("%.6g", p.position.z()) + ") m");
 
   std::unique_ptr<FrameWriter> frames;
   if (c.output.frames) {
-    frames = std::make_unique<FrameWriter>(out, sim.nodes(), sim.elements());
-    frames->write(0.0, sim.nodes(), sim.elements());
+    frames = std::make_unique<FrameWriter>(out, sim.nodes(), sim.elements(),
+                                           sim.particle_system().particles());
+    frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
   }
   HistoryWriter history(out, history_columns(probes, sim.body_names()));
   std::vector<double> row;
@@ -116,7 +120,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     }
     if (last || sim.time() >= next_frame - eps) {
       if (frames)
-        frames->write(sim.time(), sim.nodes(), sim.elements());
+        frames->write(sim.time(), sim.nodes(), sim.elements(), sim.particle_system().particles());
       history.flush();
       while (next_frame <= sim.time() + eps)
         next_frame += c.time.output_interval;
@@ -134,9 +138,10 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   summary["steps"] = sim.steps();
   summary["time"] = sim.time();
   summary["wall_s"] = wall;
-  summary["entity_steps_per_s"] = wall > 0 ? double(elements) * double(sim.steps()) / wall : 0.0;
+  summary["entity_steps_per_s"] =
+      wall > 0 ? double(particles + elements) * double(sim.steps()) / wall : 0.0;
   summary["threads"] = thread_count();
-  summary["counts"] = {{"particles", 0}, {"nodes", nodes}, {"elements", elements}};
+  summary["counts"] = {{"particles", particles}, {"nodes", nodes}, {"elements", elements}};
   summary["dt"] = {{"initial", dt0}, {"final", sim.stable_dt()}};
   summary["energy"] = {{"kinetic", e.kinetic},
                        {"internal", e.internal},
@@ -153,7 +158,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
         {"killed_particles", 0},
         {"eroded_elements", 0}};
   for (const auto& p : probes)
-    summary["probes"][p.name] = {{"node", p.node},
+    summary["probes"][p.name] = {{p.on_particle ? "particle" : "node", p.node},
                                  {"position", {p.position.x(), p.position.y(), p.position.z()}}};
   summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};

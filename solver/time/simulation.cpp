@@ -58,6 +58,7 @@ Simulation::Simulation(const Case& c, const Model& model)
   e.p_e.assign(ne, 0.0);
   e.q_e.assign(ne, 0.0);
   e.e_int_e.assign(ne, 0.0);
+  e.de_int_e.assign(ne, 0.0);
   e.e_hg_e.assign(ne, 0.0);
   e.f_e.resize(ne);
   e.hg_e.assign(ne, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
@@ -81,16 +82,15 @@ Simulation::Simulation(const Case& c, const Model& model)
   constraints_ = Constraints(c, model);
   loads_ = PressureLoads(c, model);
   constraints_.apply_initial(nodes_.v_n);
-
-  body_nodes_.resize(body_names_.size());
-  for (Index i = 0; i < n; ++i)
-    body_nodes_[nodes_.body_n[i]].push_back(i);
+  particles_ = ParticleSystem(c, model, materials_);
 
   dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
   initial_energy_ = energies().kinetic;
   initial_momentum_ = momentum();
+  const auto& p = particles_.particles();
   momentum_scale_ =
-      deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); });
+      deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
+      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
 }
 
 void Simulation::step(double dt) {
@@ -118,6 +118,7 @@ void Simulation::step(double dt) {
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
   for (Index i = 0; i < n; ++i)
     v[i] += (dt_v / m[i]) * f[i];
+  particles_.kick(dt_v);
 
   if (!loads_.empty()) {
     const auto loaded = deterministic_sum(n, WorkAndImpulse{}, [&](Index i) {
@@ -138,8 +139,11 @@ void Simulation::step(double dt) {
   for (Index i = 0; i < n; ++i)
     x[i] += dt * v[i];
 
+  particles_.drift(dt);
+
   dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
   gather_.gather_forces(elements_, f);
+  particles_.update(dt);
   time_ += dt;
   dt_previous_ = dt;
   ++steps_;
@@ -147,11 +151,22 @@ void Simulation::step(double dt) {
 
 Energies Simulation::energies() const {
   Energies out;
-  out.kinetic = deterministic_sum(nodes_.size(), 0.0, [&](Index i) {
-    return 0.5 * nodes_.m_n[i] * nodes_.v_n[i].squaredNorm();
-  });
-  out.internal =
-      deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_int_e[k]; });
+  const auto& p = particles_.particles();
+  out.kinetic = deterministic_sum(nodes_.size(), 0.0,
+                                  [&](Index i) {
+                                    return 0.5 * nodes_.m_n[i] * nodes_.v_n[i].squaredNorm();
+                                  }) +
+                deterministic_sum(p.size(), 0.0, [&](Index i) {
+                  return 0.5 * p.m_p[i] * p.v_p[i].squaredNorm();
+                });
+  // Kinetic energy is that of v^{n+½}; the internal energy is taken at the same half step,
+  // half-way through the last stress update (else a vibrating body shows an energy
+  // oscillation of relative size ω Δt / 2).
+  const auto& e = elements_;
+  out.internal = deterministic_sum(e.size(), 0.0,
+                                   [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; }) +
+                 deterministic_sum(p.size(), 0.0,
+                                   [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; });
   out.hourglass =
       deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_hg_e[k]; });
   out.external_work = external_work_;
@@ -167,8 +182,11 @@ double Simulation::balance_error(const Energies& e) const {
 }
 
 Vec3 Simulation::momentum() const {
+  const auto& p = particles_.particles();
   return deterministic_sum(nodes_.size(), Vec3(Vec3::Zero()),
-                           [&](Index i) -> Vec3 { return nodes_.m_n[i] * nodes_.v_n[i]; });
+                           [&](Index i) -> Vec3 { return nodes_.m_n[i] * nodes_.v_n[i]; }) +
+         deterministic_sum(p.size(), Vec3(Vec3::Zero()),
+                           [&](Index i) -> Vec3 { return p.m_p[i] * p.v_p[i]; });
 }
 
 double Simulation::momentum_drift() const {
@@ -178,15 +196,28 @@ double Simulation::momentum_drift() const {
 }
 
 std::vector<BodyTotals> Simulation::bodies() const {
+  // Per body: Σ m and Σ m v over its nodes and particles (a masked deterministic sum each).
+  struct MassMomentum {
+    double m = 0;
+    Vec3 p = Vec3::Zero();
+    MassMomentum& operator+=(const MassMomentum& o) {
+      m += o.m;
+      p += o.p;
+      return *this;
+    }
+  };
+  const auto& part = particles_.particles();
   std::vector<BodyTotals> out;
-  for (std::size_t b = 0; b < body_names_.size(); ++b) {
-    const auto& ids = body_nodes_[b];
-    const Index count = static_cast<Index>(ids.size());
-    const double mass = deterministic_sum(count, 0.0, [&](Index k) { return nodes_.m_n[ids[k]]; });
-    const Vec3 p = deterministic_sum(count, Vec3(Vec3::Zero()), [&](Index k) -> Vec3 {
-      return nodes_.m_n[ids[k]] * nodes_.v_n[ids[k]];
+  for (int b = 0; b < static_cast<int>(body_names_.size()); ++b) {
+    MassMomentum sum = deterministic_sum(nodes_.size(), MassMomentum{}, [&](Index i) {
+      return nodes_.body_n[i] == b ? MassMomentum{nodes_.m_n[i], nodes_.m_n[i] * nodes_.v_n[i]}
+                                   : MassMomentum{};
     });
-    out.push_back({body_names_[b], mass, mass > 0 ? Vec3(p / mass) : Vec3(Vec3::Zero())});
+    sum += deterministic_sum(part.size(), MassMomentum{}, [&](Index i) {
+      return part.body_p[i] == b ? MassMomentum{part.m_p[i], part.m_p[i] * part.v_p[i]}
+                                 : MassMomentum{};
+    });
+    out.push_back({body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero())});
   }
   return out;
 }

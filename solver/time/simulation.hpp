@@ -10,12 +10,14 @@
 #include "solver/fem/node_gather.hpp"
 #include "solver/io/case.hpp"
 #include "solver/material/elastic.hpp"
+#include "solver/sph/particle_system.hpp"
 #include "solver/state/hex_elements.hpp"
 #include "solver/state/model.hpp"
 #include "solver/state/nodes.hpp"
 #include "solver/time/constraints.hpp"
 #include "solver/time/pressure_loads.hpp"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -40,8 +42,9 @@ class Simulation {
 public:
   Simulation(const Case& c, const Model& model);
 
-  // Largest step the stability limit allows now: cfl × min over elements.
-  double stable_dt() const { return cfl_ * dt_elements_; }
+  // Largest step the stability limits allow now: min(time.cfl × min over elements,
+  // sph.cfl × min over particles of h/(c + |v|)).
+  double stable_dt() const { return std::min(cfl_ * dt_elements_, particles_.stable_dt()); }
   void step(double dt);
 
   double time() const { return time_; }
@@ -50,6 +53,7 @@ public:
   const Nodes& nodes() const { return nodes_; }
   const HexElements& elements() const { return elements_; }
   const NodeGather& node_gather() const { return gather_; }
+  const ParticleSystem& particle_system() const { return particles_; }
   const std::vector<std::string>& body_names() const { return body_names_; }
 
   Energies energies() const;
@@ -68,10 +72,10 @@ private:
   std::vector<std::string> body_names_;
   Nodes nodes_;
   HexElements elements_;
+  ParticleSystem particles_;
   NodeGather gather_;
   Constraints constraints_;
   PressureLoads loads_;
-  std::vector<std::vector<Index>> body_nodes_;
 
   double time_ = 0;
   long long steps_ = 0;

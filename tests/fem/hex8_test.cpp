@@ -77,6 +77,7 @@ HexElements make_elements(const std::vector<Hex>& hexes, double mass) {
   e.p_e.assign(n, 0.0);
   e.q_e.assign(n, 0.0);
   e.e_int_e.assign(n, 0.0);
+  e.de_int_e.assign(n, 0.0);
   e.e_hg_e.assign(n, 0.0);
   e.f_e.resize(n);
   e.hg_e.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});

@@ -372,6 +372,285 @@ TEST(CaseReader, ThrowsOnlyLocatedErrorsOnOddInput) {
   }
 }
 
+// ---- SPH bodies and the sph section ---------------------------------------------------------
+
+// kMinimal with its body made an SPH body. Line numbers as in kMinimal; line 9 is spacing.
+const std::string kSph = R"(name: bar
+time: {end: 1.0e-5, output_interval: 1.0e-6}
+materials:
+  steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}
+bodies:
+  bar:
+    method: sph
+    geometry: {box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}
+    spacing: 0.001
+    material: steel
+)";
+
+TEST(CaseReaderSph, ReadsSphBodyWithDefaults) {
+  const Case c = read_case_text(kSph, "case.yaml");
+  ASSERT_EQ(c.bodies.size(), 1u);
+  const BodySpec& bar = c.bodies[0];
+  EXPECT_EQ(bar.method, Method::Sph);
+  EXPECT_EQ(bar.geometry.kind, GeometrySpec::Kind::Box);
+  EXPECT_NEAR(bar.spacing, 0.001, 1e-18);
+  EXPECT_NEAR(bar.h_factor, 1.2, 1e-15);
+  EXPECT_EQ(bar.element_size, 0);
+  // The sph section's defaults: every term on.
+  EXPECT_TRUE(c.sph.artificial_viscosity);
+  EXPECT_NEAR(c.sph.alpha, 1.0, 1e-15);
+  EXPECT_NEAR(c.sph.beta, 2.0, 1e-15);
+  EXPECT_TRUE(c.sph.artificial_stress);
+  EXPECT_NEAR(c.sph.epsilon, 0.3, 1e-15);
+  EXPECT_NEAR(c.sph.stress_exponent, 4, 1e-15);
+  EXPECT_TRUE(c.sph.xsph);
+  EXPECT_NEAR(c.sph.xsph_epsilon, 0.5, 1e-15);
+  EXPECT_TRUE(c.sph.variable_h);
+  EXPECT_NEAR(c.sph.cfl, 0.3, 1e-15);
+  EXPECT_NEAR(c.sph.skin, 0.1, 1e-15);
+}
+
+TEST(CaseReaderSph, ReadsHFactorAndMixedBodies) {
+  const std::string text =
+      edited(kSph, "spacing: 0.001", "spacing: 0.002\n    h_factor: 1.5") +
+      "  anvil:\n    method: fem\n    geometry: {box: {min: [0, 0, -1], max: [1, 1, 0]}}\n"
+      "    element_size: 0.1\n    material: steel\n";
+  const Case c = read_case_text(text, "case.yaml");
+  ASSERT_EQ(c.bodies.size(), 2u);
+  EXPECT_NEAR(c.bodies[0].h_factor, 1.5, 1e-15);
+  EXPECT_NEAR(c.bodies[0].spacing, 0.002, 1e-18);
+  EXPECT_EQ(c.bodies[1].method, Method::Fem);
+  EXPECT_NEAR(c.bodies[1].element_size, 0.1, 1e-15);
+}
+
+TEST(CaseReaderSph, ReadsTheSphSectionInAllForms) {
+  const Case maps = read_case_text(kSph + R"(sph:
+  artificial_viscosity: {alpha: 0.5, beta: 1.0}
+  artificial_stress: {epsilon: 0.2, n: 6}
+  xsph: {epsilon: 0.25}
+  variable_smoothing_length: false
+  cfl: 0.2
+  skin: 0.05
+)",
+                                   "case.yaml");
+  EXPECT_TRUE(maps.sph.artificial_viscosity);
+  EXPECT_NEAR(maps.sph.alpha, 0.5, 1e-15);
+  EXPECT_NEAR(maps.sph.beta, 1.0, 1e-15);
+  EXPECT_TRUE(maps.sph.artificial_stress);
+  EXPECT_NEAR(maps.sph.epsilon, 0.2, 1e-15);
+  EXPECT_NEAR(maps.sph.stress_exponent, 6, 1e-15);
+  EXPECT_TRUE(maps.sph.xsph);
+  EXPECT_NEAR(maps.sph.xsph_epsilon, 0.25, 1e-15);
+  EXPECT_FALSE(maps.sph.variable_h);
+  EXPECT_NEAR(maps.sph.cfl, 0.2, 1e-15);
+  EXPECT_NEAR(maps.sph.skin, 0.05, 1e-15);
+
+  const Case off = read_case_text(
+      kSph + "sph: {artificial_viscosity: false, artificial_stress: false, xsph: false}\n",
+      "case.yaml");
+  EXPECT_FALSE(off.sph.artificial_viscosity);
+  EXPECT_FALSE(off.sph.artificial_stress);
+  EXPECT_FALSE(off.sph.xsph);
+
+  // true and partial maps: on, missing parameters default; skin 0 is allowed.
+  const Case on = read_case_text(
+      kSph + "sph: {artificial_viscosity: {beta: 1.5}, artificial_stress: true, xsph: {},\n"
+             "      skin: 0}\n",
+      "case.yaml");
+  EXPECT_TRUE(on.sph.artificial_viscosity);
+  EXPECT_NEAR(on.sph.alpha, 1.0, 1e-15);
+  EXPECT_NEAR(on.sph.beta, 1.5, 1e-15);
+  EXPECT_TRUE(on.sph.artificial_stress);
+  EXPECT_NEAR(on.sph.epsilon, 0.3, 1e-15);
+  EXPECT_TRUE(on.sph.xsph);
+  EXPECT_NEAR(on.sph.xsph_epsilon, 0.5, 1e-15);
+  EXPECT_EQ(on.sph.skin, 0);
+}
+
+TEST(CaseReaderSph, RejectsBadSpacing) {
+  EXPECT_EQ(error_of(edited(kSph, "spacing: 0.001", "spacing: 0")),
+            "case.yaml:9: bodies.bar.spacing: must be > 0 m, got 0");
+  EXPECT_TRUE(reports(error_of(edited(kSph, "spacing: 0.001", "spacing: -1e-3")),
+                      "case.yaml:9: bodies.bar.spacing: ", "must be > 0 m"));
+  EXPECT_TRUE(reports(error_of(edited(kSph, "spacing: 0.001", "spacing: fine")),
+                      "case.yaml:9: bodies.bar.spacing: ", "must be a number, got fine"));
+  EXPECT_TRUE(reports(error_of(edited(kSph, "    spacing: 0.001\n", "")),
+                      "case.yaml:7: bodies.bar.spacing: ", "missing key (particle spacing"));
+}
+
+TEST(CaseReaderSph, RejectsHFactorOutOfRange) {
+  for (const std::string bad : {"0.99", "2.01", "0", "-1.2"})
+    EXPECT_TRUE(
+        reports(error_of(edited(kSph, "spacing: 0.001", "spacing: 0.001\n    h_factor: " + bad)),
+                "case.yaml:10: bodies.bar.h_factor: ", "must be in [1.0, 2.0], got " + bad));
+  for (const std::string good : {"1.0", "2.0"})
+    EXPECT_NO_THROW(read_case_text(
+        edited(kSph, "spacing: 0.001", "spacing: 0.001\n    h_factor: " + good), "case.yaml"));
+}
+
+TEST(CaseReaderSph, RejectsKeysOfTheOtherMethod) {
+  EXPECT_TRUE(
+      reports(error_of(edited(kSph, "spacing: 0.001", "spacing: 0.001\n    element_size: 0.001")),
+              "case.yaml:10: bodies.bar.element_size: ",
+              "only allowed for method fem (an sph body takes spacing)"));
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, "element_size: 0.001", "element_size: 0.001\n    spacing: 0.001")),
+      "case.yaml:10: bodies.bar.spacing: ",
+      "only allowed for method sph (a fem body takes element_size)"));
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, "element_size: 0.001", "element_size: 0.001\n    h_factor: 1.2")),
+      "case.yaml:10: bodies.bar.h_factor: ", "only allowed for method sph"));
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, "method: fem", "method: dem")),
+      "case.yaml:7: bodies.bar.method: ", "unknown method 'dem' (expected one of: fem, sph)"));
+}
+
+TEST(CaseReaderSph, RejectsBadSphSectionValues) {
+  const auto sph_error = [](const std::string& section) {
+    return error_of(kSph + "sph: " + section + "\n");
+  };
+  EXPECT_EQ(sph_error("{artificial_viscosity: {alpha: -1}}"),
+            "case.yaml:11: sph.artificial_viscosity.alpha: must be >= 0, got -1");
+  EXPECT_TRUE(reports(sph_error("{artificial_viscosity: {beta: -0.5}}"),
+                      "case.yaml:11: sph.artificial_viscosity.beta: ", "must be >= 0"));
+  EXPECT_TRUE(reports(sph_error("{artificial_stress: {epsilon: -0.3}}"),
+                      "case.yaml:11: sph.artificial_stress.epsilon: ", "must be >= 0"));
+  EXPECT_TRUE(reports(sph_error("{artificial_stress: {n: 0}}"),
+                      "case.yaml:11: sph.artificial_stress.n: ", "must be > 0, got 0"));
+  EXPECT_TRUE(reports(sph_error("{xsph: {epsilon: -1}}"),
+                      "case.yaml:11: sph.xsph.epsilon: ", "must be >= 0"));
+  EXPECT_TRUE(
+      reports(sph_error("{cfl: 0}"), "case.yaml:11: sph.cfl: ", "must be in (0, 1], got 0"));
+  EXPECT_TRUE(reports(sph_error("{cfl: 1.5}"), "case.yaml:11: sph.cfl: ", "must be in (0, 1]"));
+  EXPECT_TRUE(reports(sph_error("{skin: -0.1}"), "case.yaml:11: sph.skin: ", "must be >= 0"));
+  EXPECT_TRUE(
+      reports(sph_error("{variable_smoothing_length: 2}"),
+              "case.yaml:11: sph.variable_smoothing_length: ", "must be true or false, got 2"));
+}
+
+TEST(CaseReaderSph, RejectsMalformedSphTerms) {
+  const auto sph_error = [](const std::string& section) {
+    return error_of(kSph + "sph: " + section + "\n");
+  };
+  EXPECT_EQ(sph_error("{artificial_viscosity: maybe}"),
+            "case.yaml:11: sph.artificial_viscosity: must be false, true or a map of alpha, "
+            "beta, got maybe");
+  EXPECT_TRUE(reports(sph_error("{xsph: [0.5]}"), "case.yaml:11: sph.xsph: ",
+                      "must be false, true or a map of epsilon, got a list of 1"));
+  EXPECT_TRUE(reports(sph_error("{artificial_stress: ~}"),
+                      "case.yaml:11: sph.artificial_stress: ", "got null"));
+  EXPECT_TRUE(reports(sph_error("{xsph: {eps: 0.5}}"),
+                      "case.yaml:11: sph.xsph.eps: ", "unknown key (expected one of: epsilon)"));
+  EXPECT_TRUE(reports(sph_error("{viscosity: false}"), "case.yaml:11: sph.viscosity: ",
+                      "unknown key (expected one of: artificial_viscosity,"));
+  EXPECT_TRUE(reports(sph_error("on"), "case.yaml:11: sph: ", "must be a map"));
+}
+
+TEST(CaseReaderSph, RejectsBoundaryConditionsAndLoadsOnSphBodies) {
+  EXPECT_EQ(error_of(kSph + "boundary_conditions:\n  - {type: fixed, body: bar, face: zmin}\n"),
+            "case.yaml:12: boundary_conditions.0.body: 'bar' is an SPH body: boundary "
+            "conditions on particles are not supported yet");
+  EXPECT_TRUE(
+      reports(error_of(kSph + "loads:\n  - {type: pressure, body: bar, face: zmin, pressure: 1}\n"),
+              "case.yaml:12: loads.0.body: ",
+              "'bar' is an SPH body: pressure loads on particles are not supported yet"));
+}
+
+TEST(CaseReaderSph, AllowsProbesOnSphBodies) {
+  const Case c = read_case_text(kSph + "probes:\n  - {name: tip, body: bar, point: [0, 0, 0.1]}\n",
+                                "case.yaml");
+  ASSERT_EQ(c.probes.size(), 1u);
+  EXPECT_EQ(c.probes[0].body, "bar");
+}
+
+TEST(CaseReaderSph, OverridesSphKeys) {
+  const Case c = read_case_text(kSph, "case.yaml",
+                                {"bodies.bar.spacing=0.0005", "sph.xsph=false", "sph.cfl=0.25"});
+  EXPECT_NEAR(c.bodies[0].spacing, 0.0005, 1e-18);
+  EXPECT_FALSE(c.sph.xsph);
+  EXPECT_NEAR(c.sph.cfl, 0.25, 1e-15);
+  EXPECT_EQ(error_of(kSph, {"bodies.bar.h_factor=3"}),
+            "--set bodies.bar.h_factor: bodies.bar.h_factor: must be in [1.0, 2.0], got 3");
+}
+
+// ---- geometry files -------------------------------------------------------------------------
+
+class CaseFiles : public ::testing::Test {
+protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("sphfem_case_reader_test_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_ / "shapes");
+    std::ofstream(dir_ / "shapes" / "ball.geo") << "SetFactory(\"OpenCASCADE\");\n"
+                                                   "Sphere(1) = {0, 0, 0, 0.01};\n";
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  // kSph with its geometry replaced by `geometry`, written as dir/case.yaml.
+  std::filesystem::path case_file(const std::string& geometry) const {
+    const std::filesystem::path file = dir_ / "case.yaml";
+    std::ofstream(file) << edited(kSph, "{box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}",
+                                  geometry);
+    return file;
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(CaseFiles, ResolvesGeometryFileRelativeToTheCaseFile) {
+  const Case c = read_case(case_file("{file: shapes/ball.geo}"));
+  EXPECT_EQ(c.bodies[0].geometry.kind, GeometrySpec::Kind::File);
+  EXPECT_TRUE(c.bodies[0].geometry.file.is_absolute());
+  EXPECT_TRUE(std::filesystem::equivalent(c.bodies[0].geometry.file, dir_ / "shapes" / "ball.geo"));
+  // Also from text, relative to the folder of the name given, and through ../
+  const Case t = read_case_text(edited(kSph, "{box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}",
+                                       "{file: ../shapes/ball.geo}"),
+                                dir_ / "cases" / "case.yaml");
+  EXPECT_EQ(t.bodies[0].geometry.file, (dir_ / "shapes" / "ball.geo").lexically_normal());
+  // An absolute path is kept.
+  const std::string absolute = (dir_ / "shapes" / "ball.geo").string();
+  EXPECT_EQ(read_case(case_file("{file: '" + absolute + "'}")).bodies[0].geometry.file,
+            std::filesystem::path(absolute));
+}
+
+TEST_F(CaseFiles, RejectsMissingGeometryFile) {
+  const std::filesystem::path file = case_file("{file: shapes/cube.geo}");
+  const std::string message = error_message([&] { read_case(file); });
+  EXPECT_TRUE(reports(message, file.string() + ":8: bodies.bar.geometry.file: ",
+                      "geometry file 'shapes/cube.geo' not found (looked for " +
+                          (dir_ / "shapes" / "cube.geo").string() + ")"));
+  EXPECT_TRUE(reports(error_message([&] { read_case(case_file("{file: shapes}")); }),
+                      (dir_ / "case.yaml").string() + ":8: bodies.bar.geometry.file: ",
+                      "unsupported geometry file type ''"));
+}
+
+TEST_F(CaseFiles, RejectsBadGeometryFileEntries) {
+  const std::string where = (dir_ / "case.yaml").string() + ":8: bodies.bar.geometry";
+  EXPECT_TRUE(reports(error_message([&] { read_case(case_file("{file: shapes/ball.stl}")); }),
+                      where + ".file: ",
+                      "unsupported geometry file type '.stl' (expected one of: .geo, .step, "
+                      ".stp, .brep)"));
+  EXPECT_TRUE(reports(error_message([&] { read_case(case_file("{file: ''}")); }),
+                      where + ".file: ", "must name a geometry file"));
+  EXPECT_TRUE(reports(error_message([&] {
+                        read_case(case_file("{file: shapes/ball.geo, box: {min: [0, 0, 0], "
+                                            "max: [1, 1, 1]}}"));
+                      }),
+                      where + ": ", "must have exactly one of: box, cylinder, file"));
+}
+
+TEST_F(CaseFiles, RejectsGeometryFileForFemBody) {
+  const std::filesystem::path file = dir_ / "fem.yaml";
+  std::ofstream(file) << edited(kMinimal, "{box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}",
+                                "{file: shapes/ball.geo}");
+  EXPECT_TRUE(reports(error_message([&] { read_case(file); }),
+                      file.string() + ":8: bodies.bar.geometry.file: ",
+                      "a geometry file is only supported for sph bodies (a fem body needs a box "
+                      "or a cylinder)"));
+}
+
 TEST(CaseReaderOverrides, AppliesScalarOverride) {
   const Case c = read_case_text(kMinimal, "case.yaml", {"materials.steel.density=7800"});
   EXPECT_NEAR(c.materials[0].density, 7800, 1e-9);

@@ -1,5 +1,6 @@
-// Tests of solver/io/model_h5.hpp and model_vtu.hpp: exact round trips of model.h5, clear
-// errors (naming the file) for damaged or foreign files, and model.vtu read back with VTK.
+// Tests of solver/io/model_h5.hpp and model_vtu.hpp: exact round trips of model.h5 (with and
+// without SPH particles), clear errors (naming the file) for damaged or foreign files, files
+// from before particles existed, and model.vtu and model_particles.vtu read back with VTK.
 #include "solver/io/model_h5.hpp"
 #include "solver/io/model_vtu.hpp"
 
@@ -20,8 +21,10 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <string>
+#include <type_traits>
 
 namespace sphfem {
 namespace {
@@ -33,6 +36,7 @@ namespace fs = std::filesystem;
 Model grid_model(int nx, int ny, int nz) {
   Model m;
   m.body_names = {"bar", "anvil"};
+  m.spacing_b = {0, 0};
   m.signature = "sphfem-mesh 1\nbody bar method=fem box min=0,0,0 max=1,1,1 element_size=0.1\n";
   const auto node = [&](int i, int j, int k) { return (k * (ny + 1) + j) * (nx + 1) + i; };
   for (int k = 0; k <= nz; ++k)
@@ -63,6 +67,23 @@ Model grid_model(int nx, int ny, int nz) {
       nodes.insert(nodes.end(), q.begin(), q.end());
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  return m;
+}
+
+// grid_model with a third body "ball" of `count` SPH particles: irrational positions, masses,
+// densities and smoothing lengths that differ per particle.
+Model particle_model(int count) {
+  Model m = grid_model(3, 2, 2);
+  m.body_names.push_back("ball");
+  m.spacing_b.push_back(std::numbers::pi * 1e-3);
+  for (int i = 0; i < count; ++i) {
+    const double t = i + 1;
+    m.x_p.emplace_back(std::sqrt(t) / 13, std::cbrt(t) / 7, std::log(t + 1) / 3);
+    m.m_p.push_back(1e-6 * (1 + std::sin(t) / 2));
+    m.rho_p.push_back(7830 + std::cos(t));
+    m.h_p.push_back(1.2e-3 * (1 + 1 / t));
+    m.body_p.push_back(2);
   }
   return m;
 }
@@ -112,6 +133,12 @@ void expect_same(const Model& a, const Model& b) {
   EXPECT_EQ(a.node_sets, b.node_sets);
   EXPECT_EQ(a.face_sets, b.face_sets);
   EXPECT_EQ(a.signature, b.signature);
+  EXPECT_EQ(a.spacing_b, b.spacing_b);
+  EXPECT_EQ(a.x_p, b.x_p); // bit for bit
+  EXPECT_EQ(a.m_p, b.m_p);
+  EXPECT_EQ(a.rho_p, b.rho_p);
+  EXPECT_EQ(a.h_p, b.h_p);
+  EXPECT_EQ(a.body_p, b.body_p);
 }
 
 // ---- model.h5 -------------------------------------------------------------------------------
@@ -129,6 +156,61 @@ TEST_F(ModelFiles, EmptyModelRoundTrips) {
   m.signature = "";
   write_model_h5(m, path("empty.h5"));
   expect_same(read_model_h5(path("empty.h5")), m);
+}
+
+TEST_F(ModelFiles, RoundTripsParticlesExactly) {
+  for (const int count : {1, 20000}) { // 20000: chunked, compressed datasets
+    const Model m = particle_model(count);
+    const fs::path file = path("particles.h5");
+    write_model_h5(m, file);
+    expect_same(read_model_h5(file), m);
+  }
+}
+
+TEST_F(ModelFiles, ParticleDatasetsCarryUnits) {
+  write_model_h5(particle_model(3), path("model.h5"));
+  const H5::H5File h5(path("model.h5").string(), H5F_ACC_RDONLY);
+  const auto units = [&](const std::string& dataset) {
+    std::string s;
+    const H5::Attribute a = h5.openDataSet(dataset).openAttribute("units");
+    a.read(a.getStrType(), s);
+    return s;
+  };
+  EXPECT_EQ(units("particles/x"), "m");
+  EXPECT_EQ(units("particles/mass"), "kg");
+  EXPECT_EQ(units("particles/density"), "kg/m^3");
+  EXPECT_EQ(units("particles/h"), "m");
+  EXPECT_EQ(units("bodies/spacing"), "m");
+  EXPECT_TRUE(h5.nameExists("particles/body_id"));
+}
+
+// Models built without spacings (FE only) are written with spacing 0 for every body.
+TEST_F(ModelFiles, EmptySpacingIsWrittenAsZeros) {
+  Model m = grid_model(2, 1, 2);
+  m.spacing_b.clear();
+  write_model_h5(m, path("model.h5"));
+  EXPECT_EQ(read_model_h5(path("model.h5")).spacing_b, (std::vector<double>{0, 0}));
+}
+
+// A file written before SPH particles existed has neither /particles nor /bodies/spacing.
+TEST_F(ModelFiles, FileWithoutParticlesReadsAsNoParticles) {
+  const fs::path file = damaged("old.h5", [](H5::H5File& h5) {
+    h5.unlink("particles");
+    h5.unlink("bodies/spacing");
+  });
+  const Model m = read_model_h5(file);
+  expect_same(m, grid_model(3, 2, 2));
+  EXPECT_EQ(m.particle_count(), 0);
+  EXPECT_EQ(m.spacing_b, (std::vector<double>{0, 0}));
+}
+
+TEST_F(ModelFiles, MismatchedParticleArraysAreNotWritten) {
+  Model m = particle_model(4);
+  m.h_p.pop_back();
+  EXPECT_THROW(write_model_h5(m, path("model.h5")), Error);
+  m = particle_model(4);
+  m.spacing_b.pop_back();
+  EXPECT_THROW(write_model_h5(m, path("model.h5")), Error);
 }
 
 TEST_F(ModelFiles, OverwritesAnExistingFile) {
@@ -245,6 +327,104 @@ TEST_F(ModelFiles, OutOfRangeSetIsAnError) {
   expect_read_error(file, "node set 'bar/zmin' holds index -1");
 }
 
+// A model with particles, damaged through HDF5 by `edit` after writing.
+class DamagedParticles : public ModelFiles {
+protected:
+  fs::path damaged_particles(const std::function<void(H5::H5File&)>& edit) const {
+    const fs::path file = path("particles.h5");
+    write_model_h5(particle_model(5), file);
+    H5::H5File h5(file.string(), H5F_ACC_RDWR);
+    edit(h5);
+    return file;
+  }
+
+  // Replaces one value of a 1-D dataset.
+  template <class T>
+  static void set_value(H5::H5File& h5, const std::string& dataset, std::size_t index, T value) {
+    const H5::DataSet d = h5.openDataSet(dataset);
+    const H5::PredType& type =
+        std::is_same_v<T, int> ? H5::PredType::NATIVE_INT : H5::PredType::NATIVE_DOUBLE;
+    std::vector<T> values(static_cast<std::size_t>(d.getSpace().getSimpleExtentNpoints()));
+    d.read(values.data(), type);
+    values.at(index) = value;
+    d.write(values.data(), type);
+  }
+
+  // Replaces a dataset with `values` of shape `dims`.
+  static void replace(H5::H5File& h5, const std::string& dataset, std::vector<hsize_t> dims,
+                      const std::vector<double>& values) {
+    h5.unlink(dataset);
+    h5.createDataSet(dataset, H5::PredType::IEEE_F64LE,
+                     H5::DataSpace(static_cast<int>(dims.size()), dims.data()))
+        .write(values.data(), H5::PredType::NATIVE_DOUBLE);
+  }
+};
+
+TEST_F(DamagedParticles, NonPositiveMassIsAnError) {
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "particles/mass", 3, -1e-6); }),
+      "particles/mass holds -1e-06 at index 3 (expected > 0)");
+}
+
+TEST_F(DamagedParticles, ZeroSmoothingLengthIsAnError) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) { set_value(h5, "particles/h", 0, 0.0); }),
+                    "particles/h holds 0 at index 0");
+}
+
+TEST_F(DamagedParticles, NonFiniteDensityIsAnError) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      set_value(h5, "particles/density", 4,
+                                std::numeric_limits<double>::quiet_NaN());
+                    }),
+                    "particles/density holds nan at index 4");
+}
+
+TEST_F(DamagedParticles, NonFinitePositionIsAnError) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      std::vector<double> x(15, 0.0);
+                      x[7] = std::numeric_limits<double>::infinity();
+                      replace(h5, "particles/x", {5, 3}, x);
+                    }),
+                    "particles/x holds a non-finite position at index 2");
+}
+
+TEST_F(DamagedParticles, OutOfRangeBodyIdIsAnError) {
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "particles/body_id", 1, 3); }),
+      "particles/body_id holds index 3 outside [0, 3)");
+}
+
+TEST_F(DamagedParticles, ParticleOfAnFeBodyIsAnError) {
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "particles/body_id", 2, 1); }),
+      "particles/body_id holds body 1 ('anvil', spacing 0: not an SPH body) at "
+      "index 2");
+}
+
+TEST_F(DamagedParticles, WrongShapesAreErrors) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "particles/x", {5, 2}, std::vector<double>(10, 0.0));
+                    }),
+                    "'particles/x' must have 3 columns");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "particles/mass", {4}, std::vector<double>(4, 1.0));
+                    }),
+                    "particles/mass has 4 entries for 5 particles");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "bodies/spacing", {2}, std::vector<double>(2, 1.0));
+                    }),
+                    "bodies/spacing has 2 entries for 3 bodies");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "bodies/spacing", {3}, {0, -1, 1});
+                    }),
+                    "bodies/spacing holds -1 at index 1 (expected >= 0)");
+}
+
+TEST_F(DamagedParticles, MissingParticleDatasetIsNamed) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) { h5.unlink("particles/h"); }),
+                    "missing dataset 'particles/h'");
+}
+
 // ---- model.vtu ------------------------------------------------------------------------------
 
 TEST_F(ModelFiles, VtuReadsBackWithHexCellsBodyIdsAndSets) {
@@ -287,6 +467,64 @@ TEST_F(ModelFiles, VtuReadsBackWithHexCellsBodyIdsAndSets) {
     for (const Index i : nodes)
       EXPECT_EQ(flag->GetTuple1(i), 1) << name;
   }
+}
+
+TEST_F(ModelFiles, ParticleVtuReadsBackWithVertexCellsAndArrays) {
+  const Model m = particle_model(50);
+  const fs::path file = path("model_particles.vtu");
+  write_particles_vtu(m, file);
+  EXPECT_FALSE(fs::exists(path("model_particles.vtu.tmp")));
+
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(file.string().c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  ASSERT_EQ(grid->GetNumberOfPoints(), m.particle_count());
+  ASSERT_EQ(grid->GetNumberOfCells(), m.particle_count());
+  vtkNew<vtkIdList> ids;
+  for (Index i = 0; i < m.particle_count(); ++i) {
+    EXPECT_EQ(Vec3(grid->GetPoint(i)), m.x_p[i]);
+    EXPECT_EQ(grid->GetCellType(i), VTK_VERTEX);
+    grid->GetCellPoints(i, ids);
+    ASSERT_EQ(ids->GetNumberOfIds(), 1);
+    EXPECT_EQ(ids->GetId(0), i);
+  }
+  const std::vector<std::pair<const char*, const std::vector<double>*>> arrays{
+      {"mass", &m.m_p}, {"h", &m.h_p}, {"density", &m.rho_p}};
+  for (const auto& [name, values] : arrays) {
+    vtkDataArray* array = grid->GetPointData()->GetArray(name);
+    ASSERT_NE(array, nullptr) << name;
+    for (Index i = 0; i < m.particle_count(); ++i)
+      EXPECT_EQ(array->GetTuple1(i), (*values)[i]) << name;
+  }
+  vtkDataArray* body = grid->GetPointData()->GetArray("body_id");
+  ASSERT_NE(body, nullptr);
+  for (Index i = 0; i < m.particle_count(); ++i)
+    EXPECT_EQ(body->GetTuple1(i), m.body_p[i]);
+}
+
+TEST_F(ModelFiles, NoParticlesMeansNoParticleVtu) {
+  const fs::path file = path("model_particles.vtu");
+  write_particles_vtu(grid_model(2, 2, 2), file);
+  EXPECT_FALSE(fs::exists(file));
+  write_particles_vtu(particle_model(3), file); // a stale file from an earlier model …
+  ASSERT_TRUE(fs::exists(file));
+  write_particles_vtu(grid_model(2, 2, 2), file); // … is removed
+  EXPECT_FALSE(fs::exists(file));
+}
+
+TEST_F(ModelFiles, ParticleVtuErrorsNameTheFile) {
+  Model m = particle_model(3);
+  m.m_p.pop_back();
+  const fs::path file = path("model_particles.vtu");
+  try {
+    write_particles_vtu(m, file);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+  }
+  const fs::path unwritable = path("no_such_dir") / "model_particles.vtu";
+  EXPECT_THROW(write_particles_vtu(particle_model(3), unwritable), Error);
 }
 
 TEST_F(ModelFiles, VtuUnwritablePathIsAnError) {

@@ -1,6 +1,6 @@
 // Tests of mesher/mesher.hpp: box and cylinder hex meshes checked against independent
 // geometry (tetrahedral volumes, corner Jacobians, face normals and areas, conformity), two-body
-// models, mesh signatures and errors.
+// and mixed FE/SPH models, mesh signatures and errors. SPH lattices: lattice_test.cpp.
 #include "mesher/mesher.hpp"
 
 #include "mesher/gmsh_body.hpp"
@@ -12,8 +12,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <numbers>
+#include <numeric>
 #include <set>
 
 namespace sphfem {
@@ -42,9 +45,18 @@ BodySpec cylinder_body(const std::string& name, const Vec3& base, const Vec3& ax
   return b;
 }
 
+BodySpec sph_box_body(const std::string& name, const Vec3& min, const Vec3& max, double dp) {
+  BodySpec b = box_body(name, min, max, 0);
+  b.method = Method::Sph;
+  b.spacing = dp;
+  return b;
+}
+
 Case case_of(std::vector<BodySpec> bodies) {
   sphfem::Case c;
   c.name = "mesher_test";
+  c.materials.push_back({"steel", "elastic", 7830, 207e9, 0.3});
+  c.materials.push_back({"aluminium", "elastic", 2700, 70e9, 0.33});
   c.bodies = std::move(bodies);
   return c;
 }
@@ -338,6 +350,45 @@ TEST(MultiBody, BodiesHaveDistinctNodesAndRightIds) {
   EXPECT_NEAR(total_volume(m, 1), 0.03 * 0.02 * 0.03, 1e-12 * 1.8e-5);
 }
 
+// FE and SPH bodies in one case: nodes and hexes of the FE bodies, particles of the SPH body,
+// each with the body id of its position in the case; spacing 0 for FE bodies.
+TEST(MultiBody, FemAndSphBodiesTogether) {
+  BodySpec projectile = sph_box_body("projectile", {0, 0, 0.021}, {0.01, 0.01, 0.031}, 0.001);
+  projectile.material = "aluminium";
+  projectile.h_factor = 1.3;
+  const Model m =
+      mesh_case(case_of({box_body("plate", {0, 0, 0}, {0.03, 0.02, 0.02}, 0.01), projectile,
+                         cylinder_body("rod", {0, 0, 0.1}, {0, 0, 0.04}, 0.01, 0.01)}));
+  ASSERT_EQ(m.body_names, (std::vector<std::string>{"plate", "projectile", "rod"}));
+  EXPECT_EQ(m.spacing_b, (std::vector<double>{0, 0.001, 0}));
+  expect_valid_mesh(m);
+  EXPECT_EQ(std::count(m.body_e.begin(), m.body_e.end(), 0), 3 * 2 * 2);
+  EXPECT_EQ(std::count(m.body_e.begin(), m.body_e.end(), 1), 0);
+  EXPECT_GT(std::count(m.body_e.begin(), m.body_e.end(), 2), 0);
+  EXPECT_EQ(std::count(m.body_n.begin(), m.body_n.end(), 1), 0);
+  ASSERT_EQ(m.particle_count(), 1000);
+  EXPECT_TRUE(std::all_of(m.body_p.begin(), m.body_p.end(), [](int b) { return b == 1; }));
+  for (Index i = 0; i < m.particle_count(); ++i) {
+    EXPECT_NEAR(m.rho_p[i], 2700, 1e-12);
+    EXPECT_NEAR(m.h_p[i], 1.3e-3, 1e-15);
+    EXPECT_GT(m.x_p[i].z(), 0.021);
+    EXPECT_LT(m.x_p[i].z(), 0.031);
+  }
+  const double mass = std::accumulate(m.m_p.begin(), m.m_p.end(), 0.0);
+  EXPECT_NEAR(mass, 2700 * 1e-6, 1e-12 * 2700 * 1e-6);
+  EXPECT_EQ(m.face_sets.size(), 6u + 3u); // none for the SPH body
+  EXPECT_FALSE(m.face_sets.contains("projectile/zmin"));
+}
+
+TEST(MultiBody, SphOnlyCaseNeedsNoMesh) {
+  const Model m = mesh_case(case_of({sph_box_body("a", {0, 0, 0}, {0.002, 0.002, 0.002}, 0.001),
+                                     sph_box_body("b", {0, 0, 1}, {0.003, 0.001, 1.001}, 0.001)}));
+  EXPECT_EQ(m.node_count(), 0);
+  EXPECT_EQ(m.element_count(), 0);
+  EXPECT_EQ(m.body_p, (std::vector<int>{0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1}));
+  EXPECT_EQ(m.spacing_b, (std::vector<double>{0.001, 0.001}));
+}
+
 TEST(MultiBody, MeshingIsDeterministic) {
   const Case c = case_of({cylinder_body("rod", {0, 0, 0}, {0.01, 0.02, 0.03}, 0.01, 0.004)});
   const Model a = mesh_case(c), b = mesh_case(c);
@@ -395,6 +446,68 @@ TEST(MeshSignature, ChangesWithMeshInputsOnly) {
   EXPECT_TRUE(changed([](Case& c) { c.bodies[1].name = "bolt"; }));
   EXPECT_TRUE(changed([](Case& c) { std::swap(c.bodies[0], c.bodies[1]); }));
   EXPECT_TRUE(changed([](Case& c) { c.bodies.pop_back(); }));
+}
+
+// FE-only signatures keep their earlier text, so model files made before SPH bodies existed
+// are not stale.
+TEST(MeshSignature, FemSignatureTextIsUnchanged) {
+  const Case c = case_of({box_body("plate", {0, 0, 0}, {0.5, 0.5, 0.012}, 0.004),
+                          cylinder_body("rod", {0, 0, 0.1}, {0, 0, 0.04}, 0.01, 0.002)});
+  EXPECT_EQ(mesh_signature(c),
+            "sphfem-mesh 1\n"
+            "body plate method=fem box min=0,0,0 max=0.5,0.5,0.012 element_size=0.004\n"
+            "body rod method=fem cylinder base=0,0,0.1 axis=0,0,0.04 radius=0.01 "
+            "element_size=0.002\n");
+}
+
+TEST(MeshSignature, ChangesWithSphInputs) {
+  const std::filesystem::path shape =
+      std::filesystem::temp_directory_path() / "sphfem_mesher_test_signature.geo";
+  std::ofstream(shape) << "SetFactory(\"OpenCASCADE\");\nSphere(1) = {0, 0, 0, 0.01};\n";
+  BodySpec ball = sph_box_body("ball", {0, 0, 0}, {0.01, 0.01, 0.01}, 0.001);
+  ball.geometry.kind = GeometrySpec::Kind::File;
+  ball.geometry.file = shape;
+  const Case base = case_of({sph_box_body("block", {0, 0, 0}, {0.1, 0.1, 0.01}, 0.002), ball});
+  const std::string s = mesh_signature(base);
+  EXPECT_EQ(mesh_signature(base), s);
+  const auto changed = [&](auto edit) {
+    Case c = base;
+    edit(c);
+    return mesh_signature(c) != s;
+  };
+  Case other = base; // keys that do not affect the model
+  other.bodies[0].velocity = {0, 0, -300};
+  other.sph.cfl = 0.1;
+  other.materials[0].youngs_modulus = 1;
+  EXPECT_EQ(mesh_signature(other), s);
+
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].spacing = 0.0025; }));
+  EXPECT_TRUE(changed([](Case& c) {
+    c.bodies[0].spacing = std::nextafter(c.bodies[0].spacing, 1.0); // full precision
+  }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].h_factor = 1.3; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].method = Method::Fem; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].geometry.box.max.z() = 0.02; }));
+  // Particle masses and densities come from the material's density.
+  EXPECT_TRUE(changed([](Case& c) { c.materials[0].density = 7800; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[1].material = "aluminium"; }));
+  const std::filesystem::path copy = shape.string() + ".copy.geo"; // same bytes, other path
+  std::filesystem::copy_file(shape, copy, std::filesystem::copy_options::overwrite_existing);
+  EXPECT_TRUE(changed([&](Case& c) { c.bodies[1].geometry.file = copy; }));
+  std::filesystem::remove(copy);
+
+  // The file's contents, not its time stamp.
+  std::ofstream(shape) << "SetFactory(\"OpenCASCADE\");\nSphere(1) = {0, 0, 0, 0.02};\n";
+  EXPECT_NE(mesh_signature(base), s);
+  std::ofstream(shape) << "SetFactory(\"OpenCASCADE\");\nSphere(1) = {0, 0, 0, 0.01};\n";
+  EXPECT_EQ(mesh_signature(base), s);
+  std::filesystem::remove(shape);
+  try {
+    mesh_signature(base);
+    ADD_FAILURE() << "no error for a missing geometry file";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("body 'ball'"), std::string::npos) << e.what();
+  }
 }
 
 void expect_error_naming(const Case& c, const std::string& body) {

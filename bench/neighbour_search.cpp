@@ -1,0 +1,124 @@
+// Neighbour search throughput: builds the SPH neighbour lists (solver/sph/neighbour_search,
+// METHOD.md §2) for 100k particles on a jittered lattice (50 × 50 × 40, jitter ±0.1 Δp,
+// h = 1.2 Δp, so ~56 neighbours without skin) at 1 and 2 threads (or the thread counts given),
+// without and with a skin of 0.1 × 2h, for four particle orders: lattice order (x fastest),
+// shuffled, shuffled then sorted by cell_order with cells of 2h, and shuffled then renumbered
+// with build_order (the search grid's own cell order, so rows need no sorting). Best of the
+// repetitions (a shared virtual machine's timings scatter). Also times needs_update. Prints JSON.
+//   bench_neighbour_search [repetitions] [threads...]
+#include "solver/sph/neighbour_search.hpp"
+
+#include <nlohmann/json.hpp>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <string>
+
+using namespace sphfem;
+
+namespace {
+
+constexpr double dp = 1e-3;
+
+struct Particles {
+  std::vector<Vec3> x;
+  std::vector<double> h;
+};
+
+Particles jittered_lattice(int nx, int ny, int nz) {
+  std::mt19937 rng(2024u);
+  std::uniform_real_distribution<double> jitter(-0.1 * dp, 0.1 * dp);
+  Particles p;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        p.x.push_back(dp * Vec3(i, j, k) + Vec3(jitter(rng), jitter(rng), jitter(rng)));
+        p.h.push_back(1.2 * dp);
+      }
+  return p;
+}
+
+Particles permuted(const Particles& in, const std::vector<Index>& new_to_old) {
+  Particles out;
+  for (Index old : new_to_old) {
+    out.x.push_back(in.x[old]);
+    out.h.push_back(in.h[old]);
+  }
+  return out;
+}
+
+template <class Work> double best_ms(int repetitions, Work work) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < repetitions; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    work();
+    const std::chrono::duration<double, std::milli> wall = std::chrono::steady_clock::now() - start;
+    best = std::min(best, wall.count());
+  }
+  return best;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  const int repetitions = argc > 1 ? std::stoi(argv[1]) : 7;
+  std::vector<int> threads;
+  for (int i = 2; i < argc; ++i)
+    threads.push_back(std::stoi(argv[i]));
+  if (threads.empty())
+    threads = {1, 2};
+
+  const Particles lattice = jittered_lattice(50, 50, 40);
+  std::vector<Index> shuffle(lattice.x.size());
+  std::iota(shuffle.begin(), shuffle.end(), 0);
+  std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937(7u));
+  const Particles shuffled = permuted(lattice, shuffle);
+  const Particles cell_sorted =
+      permuted(shuffled, NeighbourSearch::cell_order(shuffled.x, 2.4 * dp));
+  NeighbourSearch first;
+  first.build(shuffled.x, shuffled.h, 0.0);
+  const Particles build_ordered = permuted(shuffled, first.build_order());
+  const std::vector<std::pair<std::string, const Particles*>> orders{
+      {"lattice", &lattice},
+      {"shuffled", &shuffled},
+      {"cell_order_2h", &cell_sorted},
+      {"build_order", &build_ordered}};
+
+  nlohmann::json runs = nlohmann::json::array();
+  for (const double skin : {0.0, 0.24 * dp})
+    for (const auto& [order, p] : orders) {
+      nlohmann::json run{{"order", order}, {"skin_over_dp", skin / dp}};
+      double base = 0;
+      for (int t : threads) {
+        omp_set_num_threads(t);
+        NeighbourSearch search;
+        search.build(p->x, p->h, skin); // warm-up: buffers reach their size
+        const double build = best_ms(repetitions, [&] { search.build(p->x, p->h, skin); });
+        bool update = false;
+        const double check =
+            best_ms(repetitions, [&] { update |= search.needs_update(p->x, p->h); });
+        const double pairs = static_cast<double>(search.list().pair_count());
+        if (base == 0)
+          base = build;
+        run["entries"] = search.list().pair_count();
+        run["neighbours_per_particle"] = pairs / static_cast<double>(p->x.size());
+        run["threads_" + std::to_string(t)] = {{"build_ms", build},
+                                               {"entries_per_s", pairs / (build * 1e-3)},
+                                               {"needs_update_ms", check},
+                                               {"speedup", base / build},
+                                               {"needs_update", update}};
+      }
+      runs.push_back(run);
+    }
+  const nlohmann::json out{{"benchmark", "sph_neighbour_search"},
+                           {"particles", lattice.x.size()},
+                           {"h_over_dp", 1.2},
+                           {"repetitions", repetitions},
+                           {"runs", runs}};
+  std::cout << out.dump(2) << '\n';
+}

@@ -1,0 +1,143 @@
+// Neighbour search for SPH (METHOD.md §2): a cell list and full Verlet neighbour lists in
+// compressed rows for the cubic B-spline of support 2 h_ij, h_ij = (h_i + h_j)/2, with
+// variable h. A pair (i, j ≠ i) is listed when |x_i − x_j| < h_i + h_j + skin at build time;
+// force loops still test r < 2 h_ij themselves. Lengths in metres.
+// Verified by tests/sph/neighbour_search_test.cpp (equality with an O(N²) brute force, lattice
+// counts, the rebuild condition, thread-count independence); timed by bench/neighbour_search.cpp.
+//
+// Rebuild condition (needs_update). Let x⁰, h⁰ be the build-time state, d_i = |x_i − x⁰_i| and
+// g_i = h_i − h⁰_i. A pair missing from the list had r⁰ = |x⁰_i − x⁰_j| ≥ h⁰_i + h⁰_j + skin.
+// It interacts now if r < h_i + h_j. By the triangle inequality r ≥ r⁰ − d_i − d_j, so that needs
+//   h⁰_i + g_i + h⁰_j + g_j > r⁰ − d_i − d_j ≥ h⁰_i + h⁰_j + skin − d_i − d_j,
+// i.e. e_i + e_j > skin with e_i = d_i + g_i. So the list is complete as long as the two largest
+// e_i sum to at most skin; needs_update() returns e_(1) + e_(2) > skin. This is sharper than the
+// usual "any d_i > skin/2" (one particle alone may move up to a whole skin) and, unlike a test
+// on max h, catches a small-h particle whose h grows while max h does not. It also implies the
+// common split: d_i ≤ skin/4 and g_i ≤ skin/4 for all i is safe. Rounding at r = 2 h_ij is
+// harmless: W and ∇W vanish there as (2 − q)³ and (2 − q)².
+#pragma once
+
+#include "solver/core/types.hpp"
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace sphfem {
+
+// Full neighbour lists in compressed rows: row i holds every j ≠ i within the build cutoff,
+// sorted ascending. Full (each pair appears in both rows) so that force loops can gather per
+// particle without races.
+struct NeighbourList {
+  std::vector<Index> offsets;    // particle count + 1
+  std::vector<Index> neighbours; // the j's, grouped by i
+
+  std::span<const Index> of(Index i) const {
+    return {neighbours.data() + offsets[i], neighbours.data() + offsets[i + 1]};
+  }
+  // Number of (i, j) entries: each unordered pair counts twice.
+  std::size_t pair_count() const { return neighbours.size(); }
+  Index particle_count() const {
+    return offsets.empty() ? 0 : static_cast<Index>(offsets.size()) - 1;
+  }
+};
+
+// The bounding box [lo, hi] of a point set cut into n[0] × n[1] × n[2] cells of edge ≥ min_edge,
+// indexed x fastest. Cells are enlarged when needed to keep at most max_cells of them, so a
+// huge box holding few points costs no memory.
+struct CellGrid {
+  Vec3 lo = Vec3::Zero();
+  Vec3 scale = Vec3::Zero(); // cells per metre along each axis
+  std::array<Index, 3> n{1, 1, 1};
+
+  static CellGrid make(const Vec3& lo, const Vec3& hi, double min_edge, Index max_cells);
+  Index count() const { return n[0] * n[1] * n[2]; }
+  Index cell_of(const Vec3& x) const;
+};
+
+// Cell list + Verlet list. Member buffers are reused, so rebuilding for a stable particle count
+// does not allocate. Deterministic: the lists do not depend on the thread count.
+//
+// Room for passive candidates (FE nodes as background particles, searched only as neighbours):
+// they would be binned by a second Bins over the same Grid and give a second NeighbourList
+// (active i → passive j); nothing of that is built yet.
+class NeighbourSearch {
+public:
+  // Bins the particles into cells of edge ≥ (2 max h + skin)/search_reach and fills the
+  // lists. O(N), parallel over cells. Throws sphfem::Error naming the particle for a non-finite
+  // position or a negative or non-finite h, and for a negative skin.
+  void build(std::span<const Vec3> x, std::span<const double> h, double skin);
+
+  // True when the list may be missing a pair (see the rebuild condition above), when the
+  // particle count changed, before the first build, and for non-finite x or h.
+  bool needs_update(std::span<const Vec3> x, std::span<const double> h) const;
+
+  const NeighbourList& list() const { return list_; }
+  double skin() const { return skin_; }
+  // Largest pair cutoff at the last build: 2 max h + skin.
+  double cutoff() const { return cutoff_; }
+  const CellGrid& grid() const { return grid_; }
+  // The cell order of the last build (new_to_old, as cell_order gives it for the search
+  // grid). Particles renumbered with it make the next builds' rows come out sorted, which
+  // saves the per-row sort (see bench/neighbour_search.cpp) and keeps neighbours close in memory.
+  const std::vector<Index>& build_order() const { return bins_.order; }
+
+  // A permutation ordering particles by cell (cell index x fastest, ties by old index):
+  // new_to_old[k] is the old index of the particle placed at k. Cells have edge ≥ cell_size
+  // (enlarged when needed to keep at most 2N + 1 cells). Throws for non-finite positions.
+  static std::vector<Index> cell_order(std::span<const Vec3> x, double cell_size);
+
+private:
+  struct Point {
+    double x, y, z, h;
+  };
+  // Points sorted by cell (counting sort, stable in the original index).
+  struct Bins {
+    std::vector<Index> cell_start; // grid cells + 1
+    std::vector<Index> order;      // sorted position → original index
+    std::vector<Point> points;     // x, h in sorted order
+    std::vector<Index> cell;       // cell of each original index (scratch)
+    Index descents = 0;            // k with order[k] < order[k − 1]: distance from cell order
+  };
+  // Half lists in sorted positions: for each sorted point k, the m > k within the cutoff,
+  // ascending. A thread's rows are in its own buffer: entries[0, used) are filled and entries
+  // only grows (no allocation once stable). Padded so that two threads never share a line.
+  struct alignas(64) UpperBuffer {
+    std::vector<Index> entries;
+    std::size_t used = 0;
+  };
+  struct HalfLists {
+    std::vector<UpperBuffer> buffers; // one per thread
+    std::vector<Index> first;         // first sorted point of each thread, threads + 1
+    std::vector<std::size_t> at;      // row k starts at buffers[owner].entries[at[k]]
+    std::vector<Index> count;         // length of row k
+    std::vector<Index> lower;         // rows k' < k listing k: count, then write cursor
+  };
+  struct Transpose {
+    std::vector<Index> count;      // per thread and particle: entries, then write cursors
+    std::vector<Index> neighbours; // the sorted lists, then swapped into list_
+  };
+
+  // Cells searched on each side of a particle's own cell (see the .cpp for the measured choice).
+  static constexpr Index search_reach = 2;
+
+  void bin(std::span<const Vec3> x, std::span<const double> h);
+  void fill_rows(bool sort_each_row);
+  void sort_by_transposing();
+  void search_upper(Index c, UpperBuffer& rows);
+  std::span<const Index> upper_row(Index k, int thread, int threads) const;
+
+  CellGrid grid_;
+  Bins bins_;
+  HalfLists half_;
+  Transpose transpose_;
+  NeighbourList list_;
+  std::vector<Vec3> x_build_;
+  std::vector<double> h_build_;
+  double skin_ = 0;
+  double cutoff_ = 0;
+  bool built_ = false;
+};
+
+} // namespace sphfem

@@ -1,0 +1,170 @@
+#include "solver/sph/sph_update.hpp"
+
+#include "solver/core/error.hpp"
+#include "solver/core/parallel.hpp"
+#include "solver/material/jaumann.hpp"
+#include "solver/sph/kernel.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <limits>
+
+namespace sphfem {
+
+namespace {
+
+Mat3 total_stress(const Particles& p, Index i) {
+  return p.S_p[i] - p.p_p[i] * Mat3::Identity();
+}
+
+// R_i = −ε Σ_k max(σ'_k, 0)/ρ² e_k e_kᵀ over the principal stresses σ'_k (Gray et al. 2001).
+Mat3 artificial_stress(const Mat3& sigma, double rho, double epsilon) {
+  Eigen::SelfAdjointEigenSolver<Mat3> eigen;
+  eigen.computeDirect(sigma);
+  Mat3 R = Mat3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double s = eigen.eigenvalues()[k];
+    if (s > 0) {
+      const Vec3 e = eigen.eigenvectors().col(k);
+      R -= (epsilon * s / (rho * rho)) * (e * e.transpose());
+    }
+  }
+  return R;
+}
+
+double sound_speed(const ElasticConstants& c, double rho) {
+  return std::sqrt(c.p_wave_modulus() / rho);
+}
+
+} // namespace
+
+void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
+  const Index n = p.size();
+#pragma omp parallel for schedule(static) if (n > parallel_min_items / 16)
+  for (Index i = 0; i < n; ++i) {
+    // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity): a rigid rotation
+    // then has an exactly skew velocity gradient, as for the hexahedra.
+    const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
+    const int body = p.body_p[i];
+    Mat3 L = Mat3::Zero(), M = Mat3::Zero(), G = Mat3::Zero();
+    Vec3 xsph = Vec3::Zero();
+    double drho = 0;
+    int count = 0;
+    for (Index j : list.of(i)) {
+      const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
+      const double r = x_ij.norm();
+      const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
+      if (r >= 2.0 * h_ij || r == 0.0 || p.body_p[j] != body)
+        continue;
+      ++count;
+      const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
+      const Vec3 v_ji = p.v_p[j] - vi;
+      const double V_j = p.m_p[j] / p.rho_p[j];
+      const Mat3 vg = v_ji * grad.transpose();
+      L += V_j * vg;
+      G += p.m_p[j] * vg;
+      M -= V_j * x_ij * grad.transpose();
+      drho -= p.m_p[j] * v_ji.dot(grad);
+      if (spec.xsph)
+        xsph += (2.0 * p.m_p[j] / (p.rho_p[i] + p.rho_p[j]) * kernel_W(r, h_ij)) * v_ji;
+    }
+    // Gradient correction (Randles & Libersky): L M⁻¹ differentiates every linear field
+    // exactly, also at free surfaces where the kernel support is cut. Skipped where M is too
+    // degenerate to invert (a nearly isolated particle).
+    if (spec.gradient_correction && M.determinant() > 1e-3)
+      L = L * M.inverse();
+    p.L_p[i] = L;
+    p.G_p[i] = G;
+    p.drho_p[i] = drho;
+    p.xsph_p[i] = spec.xsph_epsilon * xsph;
+    p.neighbours_p[i] = count;
+  }
+}
+
+void sph_material_update(Particles& p, const std::vector<ElasticConstants>& materials,
+                         const SphSpec& spec, double dt) {
+  const Index n = p.size();
+  Index first_bad = n;
+#pragma omp parallel for schedule(static) reduction(min : first_bad) if (n > parallel_min_items / 4)
+  for (Index i = 0; i < n; ++i) {
+    const ElasticConstants& mat = materials[p.material_p[i]];
+    const double rho_old = p.rho_p[i];
+    const double rho = rho_old + dt * p.drho_p[i];
+    if (!(rho > 0)) {
+      first_bad = std::min(first_bad, i);
+      continue;
+    }
+    p.rho_p[i] = rho;
+    if (spec.variable_h)
+      p.h_p[i] = p.h0_p[i] * std::cbrt(p.rho0_p[i] / rho);
+    const Mat3& L = p.L_p[i];
+    const Mat3 D = 0.5 * (L + L.transpose()), W = 0.5 * (L - L.transpose());
+    const Mat3 sigma_old = total_stress(p, i);
+    elastic_deviator_update(mat, D, W, dt, p.S_p[i]);
+    p.p_p[i] = elastic_pressure(mat, rho);
+    // Stress work in the form that matches the symmetric momentum equation pair by pair,
+    // m_i (σ/ρ²) : Σ_j m_j v_ji ⊗ ∇W, so the total energy is conserved even where the
+    // corrected L (used for the stress) differs from the plain kernel sum.
+    const Mat3 sigma_mid = 0.5 * (sigma_old + total_stress(p, i));
+    const double rho_mid = 0.5 * (rho_old + rho);
+    p.de_p[i] = dt * p.m_p[i] / (rho_mid * rho_mid) * sigma_mid.cwiseProduct(p.G_p[i]).sum();
+    p.e_p[i] += p.de_p[i];
+    if (spec.artificial_stress)
+      p.R_p[i] = artificial_stress(total_stress(p, i), rho, spec.epsilon);
+  }
+  SPHFEM_CHECK(first_bad == n, "particle ", first_bad < n ? p.id_p[first_bad] : -1,
+               " reached a non-positive density: the particle set is being crushed; the run is "
+               "unstable (reduce sph.cfl)");
+}
+
+double sph_forces(Particles& p, const NeighbourList& list,
+                  const std::vector<ElasticConstants>& materials, const SphSpec& spec) {
+  const Index n = p.size();
+  double dt_min = std::numeric_limits<double>::infinity();
+#pragma omp parallel for schedule(static) reduction(min : dt_min) if (n > parallel_min_items / 16)
+  for (Index i = 0; i < n; ++i) {
+    const Vec3 xi = p.x_p[i], vi = p.v_p[i];
+    const int body = p.body_p[i];
+    const double rho_i = p.rho_p[i];
+    const double c_i = sound_speed(materials[p.material_p[i]], rho_i);
+    const Mat3 A_i = total_stress(p, i) / (rho_i * rho_i);
+    Vec3 f = Vec3::Zero();
+    double heat = 0;
+    for (Index j : list.of(i)) {
+      const Vec3 x_ij = xi - p.x_p[j];
+      const double r = x_ij.norm();
+      const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
+      if (r >= 2.0 * h_ij || r == 0.0 || p.body_p[j] != body)
+        continue;
+      const double rho_j = p.rho_p[j];
+      const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
+      const Vec3 v_ij = vi - p.v_p[j];
+      const double mm = p.m_p[i] * p.m_p[j];
+      Mat3 pair = A_i + total_stress(p, j) / (rho_j * rho_j);
+      if (spec.artificial_stress) {
+        const double dp = 0.5 * (p.dp_p[i] + p.dp_p[j]);
+        const double fij = std::pow(kernel_W(r, h_ij) / kernel_W(dp, h_ij), spec.stress_exponent);
+        const Vec3 f_R = (mm * fij) * ((p.R_p[i] + p.R_p[j]) * grad);
+        f += f_R;
+        heat -= 0.5 * f_R.dot(v_ij);
+      }
+      f += mm * (pair * grad);
+      const double approach = v_ij.dot(x_ij);
+      if (spec.artificial_viscosity && approach < 0) {
+        const double c_j = sound_speed(materials[p.material_p[j]], rho_j);
+        const double mu = h_ij * approach / (r * r + 0.01 * h_ij * h_ij);
+        const double Pi =
+            (-spec.alpha * 0.5 * (c_i + c_j) * mu + spec.beta * mu * mu) / (0.5 * (rho_i + rho_j));
+        f -= (mm * Pi) * grad;
+        heat += 0.5 * mm * Pi * v_ij.dot(grad);
+      }
+    }
+    p.f_p[i] = f;
+    p.heat_p[i] = heat;
+    dt_min = std::min(dt_min, p.h_p[i] / (c_i + vi.norm()));
+  }
+  return spec.cfl * dt_min;
+}
+
+} // namespace sphfem

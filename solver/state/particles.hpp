@@ -1,0 +1,52 @@
+// SPH particles as a struct of arrays (STYLE.md B): kinematics, material state and the
+// per-step rates, plus for_each_field so reordering (cell sorting) never forgets a field.
+#pragma once
+
+#include "solver/core/types.hpp"
+
+#include <vector>
+
+namespace sphfem {
+
+struct Particles {
+  // State.
+  std::vector<Vec3> x0_p;     // reference position, m
+  std::vector<Vec3> x_p;      // position xⁿ, m
+  std::vector<Vec3> v_p;      // velocity v^{n−½} (after a step v^{n+½}), m/s
+  std::vector<double> m_p;    // mass, kg
+  std::vector<double> rho0_p; // reference density, kg/m³
+  std::vector<double> rho_p;  // density, kg/m³
+  std::vector<double> h_p;    // smoothing length, m
+  std::vector<double> h0_p;   // initial smoothing length, m
+  std::vector<double> dp_p;   // initial lattice spacing Δp (artificial stress), m
+  std::vector<Mat3> S_p;      // deviatoric stress, Pa
+  std::vector<double> p_p;    // pressure, Pa
+  std::vector<double> e_p;    // internal energy, J (stress work and viscous heating)
+  std::vector<double> de_p;   // stress work of the last step, J (energy at the half step)
+  std::vector<int> body_p;
+  std::vector<int> material_p;
+  std::vector<Index> id_p; // index in model.h5 (particles are reordered by cell)
+  // Rates and scratch of the current step.
+  std::vector<Vec3> f_p;      // force on the particle, N
+  std::vector<Mat3> L_p;      // velocity gradient, 1/s
+  std::vector<Mat3> G_p;      // Σ_j m_j v_ji ⊗ ∇W (energy-consistent stress power), kg/(m³ s)
+  std::vector<double> drho_p; // dρ/dt, kg/m³/s
+  std::vector<Vec3> xsph_p;   // XSPH velocity correction, m/s
+  std::vector<Vec3> u_p;      // drift velocity of the last step, v + XSPH, m/s
+  std::vector<double> heat_p; // heating power of artificial viscosity and stress, W
+  std::vector<Mat3> R_p;      // artificial stress R_i (METHOD.md §2), Pa m⁶/kg²
+  std::vector<int> neighbours_p; // neighbour count (within 2h), for output
+
+  Index size() const { return static_cast<Index>(x_p.size()); }
+
+  // Visits every per-particle array (for resize and reorder).
+  template <class Visit> void for_each_field(Visit visit) {
+    visit(x0_p), visit(x_p), visit(v_p), visit(m_p), visit(rho0_p), visit(rho_p), visit(h_p);
+    visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p);
+    visit(material_p), visit(id_p), visit(f_p), visit(L_p), visit(drho_p), visit(xsph_p);
+    visit(u_p), visit(G_p), visit(de_p);
+    visit(heat_p), visit(R_p), visit(neighbours_p);
+  }
+};
+
+} // namespace sphfem

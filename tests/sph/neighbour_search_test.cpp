@@ -1,0 +1,545 @@
+// Unit tests of the SPH neighbour search (solver/sph/neighbour_search): lists equal to an
+// O(N²) brute force on random clouds with mixed h (cube, thin slab, thin rod), lattice
+// neighbour counts, the Verlet rebuild condition (its thresholds, its tightness and its
+// sufficiency), the cell order, independence of the thread count, and degenerate inputs.
+#include "solver/sph/neighbour_search.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <new>
+#include <numeric>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+using namespace sphfem;
+
+// Every allocation of the test program is counted, to check that rebuilding does not allocate.
+std::atomic<long> allocations{0};
+
+[[gnu::noinline]] void* operator new(std::size_t size) {
+  ++allocations;
+  if (void* p = std::malloc(size > 0 ? size : 1))
+    return p;
+  throw std::bad_alloc();
+}
+[[gnu::noinline]] void* operator new(std::size_t size, std::align_val_t align) {
+  ++allocations;
+  const auto a = static_cast<std::size_t>(align);
+  if (void* p = std::aligned_alloc(a, (std::max<std::size_t>(size, 1) + a - 1) / a * a))
+    return p;
+  throw std::bad_alloc();
+}
+// None inlined: GCC would otherwise see malloc() paired with operator delete and warn.
+[[gnu::noinline]] void operator delete(void* p) noexcept {
+  std::free(p);
+}
+[[gnu::noinline]] void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+[[gnu::noinline]] void operator delete(void* p, std::align_val_t) noexcept {
+  std::free(p);
+}
+[[gnu::noinline]] void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  std::free(p);
+}
+
+namespace {
+
+using Rows = std::vector<std::vector<Index>>;
+
+struct Cloud {
+  std::vector<Vec3> x;
+  std::vector<double> h;
+};
+
+// n points uniform in [0, size] with h uniform in [h0, 3 h0]; h0 = 0.6 × mean spacing gives
+// some 60 neighbours on average when the box is thicker than the cutoff.
+Cloud random_cloud(Index n, const Vec3& size, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double h0 = 0.6 * std::cbrt(size.prod() / std::max<Index>(n, 1));
+  Cloud c;
+  for (Index i = 0; i < n; ++i) {
+    c.x.emplace_back(size.x() * unit(rng), size.y() * unit(rng), size.z() * unit(rng));
+    c.h.push_back(h0 * (1 + 2 * unit(rng)));
+  }
+  return c;
+}
+
+// The listing predicate written out independently: r < h_i + h_j + skin, compared squared.
+bool within(const Vec3& xi, const Vec3& xj, double hi, double hj, double skin) {
+  const double dx = xj.x() - xi.x(), dy = xj.y() - xi.y(), dz = xj.z() - xi.z();
+  const double cut = hi + hj + skin;
+  return dx * dx + dy * dy + dz * dz < cut * cut;
+}
+
+Rows brute_force(const Cloud& c, double skin) {
+  const auto n = static_cast<Index>(c.x.size());
+  Rows rows(n);
+  for (Index i = 0; i < n; ++i)
+    for (Index j = 0; j < n; ++j)
+      if (j != i && within(c.x[i], c.x[j], c.h[i], c.h[j], skin))
+        rows[i].push_back(j);
+  return rows;
+}
+
+::testing::AssertionResult lists_equal(const NeighbourList& list, const Rows& expected) {
+  if (list.offsets.size() != expected.size() + 1)
+    return ::testing::AssertionFailure()
+           << list.offsets.size() << " offsets for " << expected.size() << " particles";
+  std::size_t entries = 0;
+  for (Index i = 0; i < static_cast<Index>(expected.size()); ++i) {
+    const auto row = list.of(i);
+    if (!std::equal(row.begin(), row.end(), expected[i].begin(), expected[i].end()))
+      return ::testing::AssertionFailure() << "row of particle " << i << " has " << row.size()
+                                           << " entries, brute force " << expected[i].size();
+    entries += expected[i].size();
+  }
+  if (list.pair_count() != entries)
+    return ::testing::AssertionFailure() << list.pair_count() << " entries, expected " << entries;
+  return ::testing::AssertionSuccess();
+}
+
+void set_threads(int n) {
+#ifdef _OPENMP
+  omp_set_num_threads(n);
+#else
+  (void)n;
+#endif
+}
+
+// --- Equality with the brute force --------------------------------------------------------
+
+enum class Shape { Cube, Slab, Rod };
+
+Vec3 box_of(Shape s) {
+  switch (s) {
+  case Shape::Cube:
+    return {1.0, 1.0, 1.0};
+  case Shape::Slab:
+    return {1.0, 0.8, 0.01};
+  case Shape::Rod:
+    return {1.0, 0.002, 0.002};
+  }
+  return {};
+}
+
+class BruteForce : public ::testing::TestWithParam<std::tuple<Index, Shape, double>> {};
+
+TEST_P(BruteForce, ListsEqualBruteForce) {
+  const auto [n, shape, skin_factor] = GetParam();
+  const Cloud c = random_cloud(n, box_of(shape), 1234u + static_cast<unsigned>(n));
+  const double skin = n > 0 ? skin_factor * *std::min_element(c.h.begin(), c.h.end()) : 0;
+  NeighbourSearch search;
+  search.build(c.x, c.h, skin);
+  EXPECT_TRUE(lists_equal(search.list(), brute_force(c, skin)));
+  EXPECT_LE(search.grid().count(), 2 * n + 1);
+}
+
+std::string brute_force_name(const ::testing::TestParamInfo<BruteForce::ParamType>& info) {
+  const auto [n, shape, skin] = info.param;
+  const char* shapes[] = {"cube", "slab", "rod"};
+  return shapes[static_cast<int>(shape)] + std::string("_n") + std::to_string(n) +
+         (skin > 0 ? "_skin" : "_noskin");
+}
+
+INSTANTIATE_TEST_SUITE_P(Clouds, BruteForce,
+                         ::testing::Combine(::testing::Values(1, 2, 500, 3000),
+                                            ::testing::Values(Shape::Cube, Shape::Slab, Shape::Rod),
+                                            ::testing::Values(0.0, 0.5)),
+                         brute_force_name);
+
+// Above parallel_min_items the rows are found on several threads: still the brute force, and
+// bit-identical lists for 1 and 2 threads.
+TEST(NeighbourSearch, ParallelBuildEqualsBruteForceAndIsThreadCountIndependent) {
+  const Cloud c = random_cloud(9000, {1.0, 0.5, 0.3}, 99u);
+  const double skin = 0.3 * c.h[0];
+  NeighbourSearch one, two;
+  set_threads(1);
+  one.build(c.x, c.h, skin);
+  set_threads(2);
+  two.build(c.x, c.h, skin);
+  EXPECT_TRUE(one.list().offsets == two.list().offsets);
+  EXPECT_TRUE(one.list().neighbours == two.list().neighbours);
+  EXPECT_TRUE(lists_equal(two.list(), brute_force(c, skin)));
+}
+
+// Rebuilding for a stable particle count allocates nothing (counted by operator new below),
+// whichever way the rows get sorted.
+TEST(NeighbourSearch, RebuildDoesNotAllocate) {
+  Cloud c = random_cloud(6000, {1.0, 1.0, 1.0}, 5u);
+  Cloud reflected = c; // same pairs, other cell order
+  for (Vec3& p : reflected.x)
+    p = Vec3(1, 1, 1) - p;
+  std::vector<Index> order = NeighbourSearch::cell_order(c.x, 0.1);
+  Cloud by_cell;
+  for (Index old : order) {
+    by_cell.x.push_back(c.x[old]);
+    by_cell.h.push_back(c.h[old]);
+  }
+  for (const Cloud* cloud : {&c, &by_cell}) {
+    NeighbourSearch search;
+    for (int warm_up = 0; warm_up < 3; ++warm_up) {
+      search.build(cloud->x, cloud->h, 0.0);
+      search.build(reflected.x, reflected.h, 0.0);
+    }
+    const long before = allocations.load();
+    search.build(cloud->x, cloud->h, 0.0);
+    search.build(reflected.x, reflected.h, 0.0);
+    search.build(cloud->x, cloud->h, 0.0);
+    EXPECT_FALSE(search.needs_update(cloud->x, cloud->h));
+    EXPECT_EQ(allocations.load() - before, 0);
+  }
+}
+
+// --- Lattice ------------------------------------------------------------------------------
+
+// Lattice of spacing Δp, h = 1.2 Δp: an interior particle has the lattice points within
+// 2.4 Δp, counted here over integer offsets (56: shells |a|² = 1, 2, 3, 4, 5 of 6, 12, 8, 6, 24).
+TEST(NeighbourSearch, LatticeInteriorCount) {
+  const double dp = 0.01;
+  const int side = 11;
+  Cloud c;
+  for (int k = 0; k < side; ++k)
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) {
+        c.x.push_back(Vec3(0.3, -0.7, 1.1) + dp * Vec3(i, j, k));
+        c.h.push_back(1.2 * dp);
+      }
+  Index expected = 0;
+  for (int a = -3; a <= 3; ++a)
+    for (int b = -3; b <= 3; ++b)
+      for (int d = -3; d <= 3; ++d)
+        if (a * a + b * b + d * d > 0 && a * a + b * b + d * d < 2.4 * 2.4)
+          ++expected;
+  EXPECT_EQ(expected, 56);
+
+  NeighbourSearch search;
+  search.build(c.x, c.h, 0.0);
+  for (int k = 3; k < side - 3; ++k)
+    for (int j = 3; j < side - 3; ++j)
+      for (int i = 3; i < side - 3; ++i) {
+        const Index p = i + side * (j + side * k);
+        EXPECT_EQ(static_cast<Index>(search.list().of(p).size()), expected) << "particle " << p;
+      }
+  EXPECT_TRUE(lists_equal(search.list(), brute_force(c, 0.0)));
+}
+
+// --- Rebuild condition --------------------------------------------------------------------
+
+class Rebuild : public ::testing::Test {
+protected:
+  void SetUp() override {
+    c = random_cloud(500, {1.0, 1.0, 1.0}, 7u);
+    skin = 0.4 * c.h[0];
+    search.build(c.x, c.h, skin);
+  }
+  Vec3 random_direction() {
+    std::normal_distribution<double> normal;
+    return Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+  }
+  Cloud c;
+  double skin = 0;
+  NeighbourSearch search;
+  std::mt19937 rng{11u};
+};
+
+TEST_F(Rebuild, FalseRightAfterBuild) {
+  EXPECT_FALSE(search.needs_update(c.x, c.h));
+}
+
+// A pair is missed only if the excursions e = d + Δh of its two particles sum above the skin.
+TEST_F(Rebuild, DisplacementThresholds) {
+  Cloud one = c;
+  one.x[3] += 0.6 * skin * random_direction();
+  EXPECT_FALSE(search.needs_update(one.x, one.h)); // alone, it closes a gap by 0.6 skin only
+  one.x[4] += 0.6 * skin * random_direction();
+  EXPECT_TRUE(search.needs_update(one.x, one.h)); // two of them: 1.2 skin
+
+  Cloud all = c;
+  for (Vec3& p : all.x)
+    p += 0.4 * skin * random_direction();
+  EXPECT_FALSE(search.needs_update(all.x, all.h)); // any pair: at most 0.8 skin
+  Cloud far = c;
+  for (Vec3& p : far.x)
+    p += 0.55 * skin * random_direction();
+  EXPECT_TRUE(search.needs_update(far.x, far.h));
+}
+
+TEST_F(Rebuild, SmoothingLengthThresholds) {
+  Cloud one = c;
+  one.h[10] += 0.9 * skin;
+  EXPECT_FALSE(search.needs_update(one.x, one.h));
+  one.h[10] += 0.2 * skin; // h_i alone grew by more than the skin
+  EXPECT_TRUE(search.needs_update(one.x, one.h));
+
+  Cloud all = c;
+  for (double& h : all.h)
+    h += 0.45 * skin;
+  EXPECT_FALSE(search.needs_update(all.x, all.h)); // 2 h_ij grew by 0.9 skin
+  for (double& h : all.h)
+    h += 0.1 * skin;
+  EXPECT_TRUE(search.needs_update(all.x, all.h));
+
+  // Motion and growth share the budget: d ≤ skin/4 and Δh ≤ skin/4 everywhere is safe.
+  Cloud both = c;
+  for (Index i = 0; i < 500; ++i) {
+    both.x[i] += 0.25 * skin * random_direction();
+    both.h[i] += 0.24 * skin;
+  }
+  EXPECT_FALSE(search.needs_update(both.x, both.h));
+  // Shrinking h frees budget for motion.
+  both.h[0] -= 0.5 * skin;
+  both.x[0] += 0.5 * skin * random_direction();
+  EXPECT_FALSE(search.needs_update(both.x, both.h));
+}
+
+// The condition is tight: two particles just outside the list close in by a little more than
+// half the skin each, interact, and needs_update says so.
+TEST(NeighbourSearch, RebuildConditionIsTight) {
+  const double h = 1.0, skin = 0.2, gap = 1e-3;
+  Cloud c{{Vec3(0, 0, 0), Vec3(2 * h + skin + gap, 0, 0)}, {h, h}};
+  NeighbourSearch search;
+  search.build(c.x, c.h, skin);
+  EXPECT_EQ(search.list().pair_count(), 0u);
+  const double step = 0.5 * (skin + 2 * gap);
+  c.x[0].x() += step;
+  c.x[1].x() -= step;
+  EXPECT_TRUE(within(c.x[0], c.x[1], h, h, 0.0)); // now within 2 h_ij but not listed
+  EXPECT_TRUE(search.needs_update(c.x, c.h));
+}
+
+// Whenever needs_update is false, every pair within 2 h_ij now is in the list.
+TEST_F(Rebuild, FalseImpliesNoMissingPair) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int complete = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Cloud moved = c;
+    const double scale = 0.35 + 0.02 * trial; // around the threshold
+    for (Index i = 0; i < 500; ++i) {
+      const double share = unit(rng);
+      moved.x[i] += share * scale * skin * random_direction();
+      moved.h[i] += (1 - share) * scale * skin * (unit(rng) < 0.8 ? 1.0 : -1.0);
+    }
+    if (search.needs_update(moved.x, moved.h))
+      continue;
+    ++complete;
+    const Rows now = brute_force(moved, 0.0);
+    for (Index i = 0; i < 500; ++i) {
+      const auto row = search.list().of(i);
+      for (Index j : now[i])
+        ASSERT_TRUE(std::binary_search(row.begin(), row.end(), j))
+            << "pair " << i << ", " << j << " missing in trial " << trial;
+    }
+  }
+  EXPECT_GT(complete, 5); // the property was exercised
+}
+
+TEST_F(Rebuild, TrueForOtherCountsNonFiniteStateAndBeforeBuild) {
+  EXPECT_TRUE(NeighbourSearch().needs_update(c.x, c.h));
+  Cloud more = c;
+  more.x.push_back(Vec3::Zero());
+  more.h.push_back(c.h[0]);
+  EXPECT_TRUE(search.needs_update(more.x, more.h));
+  Cloud bad = c;
+  bad.x[42].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(search.needs_update(bad.x, bad.h));
+  bad = c;
+  bad.h[42] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(search.needs_update(bad.x, bad.h));
+}
+
+// --- Cell order ---------------------------------------------------------------------------
+
+TEST(NeighbourSearch, CellOrderIsAPermutationSortedByCell) {
+  const Cloud c = random_cloud(3000, {1.0, 0.6, 0.3}, 3u);
+  const double cell_size = 0.05;
+  const std::vector<Index> order = NeighbourSearch::cell_order(c.x, cell_size);
+  std::vector<Index> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<Index> identity(c.x.size());
+  std::iota(identity.begin(), identity.end(), 0);
+  EXPECT_EQ(sorted, identity);
+
+  Vec3 lo = c.x[0], hi = c.x[0];
+  for (const Vec3& p : c.x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const CellGrid grid = CellGrid::make(lo, hi, cell_size, 6001);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_GE((hi[d] - lo[d]) / grid.n[d], cell_size) << "axis " << d;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const Index a = grid.cell_of(c.x[order[k - 1]]), b = grid.cell_of(c.x[order[k]]);
+    ASSERT_TRUE(a < b || (a == b && order[k - 1] < order[k])) << "at " << k;
+  }
+}
+
+// Cell index x fastest, ties by old index, on hand-checked points.
+TEST(NeighbourSearch, CellOrderSmallCases) {
+  // Line: extent 3.8, cell size 1 → 3 cells of 1.27: cells 1, 0, 1, 0, 2.
+  const std::vector<Vec3> line{{2.5, 0, 0}, {0.1, 0, 0}, {1.7, 0, 0}, {0.2, 0, 0}, {3.9, 0, 0}};
+  EXPECT_EQ(NeighbourSearch::cell_order(line, 1.0), (std::vector<Index>{1, 3, 0, 2, 4}));
+  // Unit cube, 2 cells per axis: linear cells 2, 1, 0, 7.
+  const std::vector<Vec3> cube{{0, 1, 0}, {1, 0, 0}, {0, 0, 0}, {1, 1, 1}};
+  EXPECT_EQ(NeighbourSearch::cell_order(cube, 0.5), (std::vector<Index>{2, 1, 0, 3}));
+  EXPECT_TRUE(NeighbourSearch::cell_order(std::vector<Vec3>{}, 1.0).empty());
+}
+
+// A list built on cell-ordered particles has the same pairs, relabelled.
+TEST(NeighbourSearch, ReorderedParticlesGiveRelabelledLists) {
+  const Cloud c = random_cloud(2000, {1.0, 1.0, 0.5}, 17u);
+  NeighbourSearch search;
+  search.build(c.x, c.h, 0.0);
+  const std::vector<Index> new_to_old = NeighbourSearch::cell_order(c.x, search.cutoff());
+  Cloud sorted;
+  std::vector<Index> old_to_new(c.x.size());
+  for (Index k = 0; k < static_cast<Index>(new_to_old.size()); ++k) {
+    sorted.x.push_back(c.x[new_to_old[k]]);
+    sorted.h.push_back(c.h[new_to_old[k]]);
+    old_to_new[new_to_old[k]] = k;
+  }
+  NeighbourSearch resorted;
+  resorted.build(sorted.x, sorted.h, 0.0);
+  for (Index i = 0; i < 2000; ++i) {
+    std::vector<Index> mapped;
+    for (Index j : search.list().of(i))
+      mapped.push_back(old_to_new[j]);
+    std::sort(mapped.begin(), mapped.end());
+    const auto row = resorted.list().of(old_to_new[i]);
+    ASSERT_TRUE(std::equal(row.begin(), row.end(), mapped.begin(), mapped.end())) << i;
+  }
+}
+
+// Rows are sorted per row when the numbering is close to cell order, by one transposition
+// otherwise: both paths give the brute force. Renumbered with build_order, then a few swaps.
+TEST(NeighbourSearch, NumberingCloseToCellOrder) {
+  const Cloud c = random_cloud(3000, {1.0, 0.7, 0.4}, 31u);
+  const double skin = 0.2 * c.h[0];
+  NeighbourSearch search;
+  search.build(c.x, c.h, skin);
+  Cloud renumbered;
+  for (Index old : search.build_order()) {
+    renumbered.x.push_back(c.x[old]);
+    renumbered.h.push_back(c.h[old]);
+  }
+  search.build(renumbered.x, renumbered.h, skin);
+  EXPECT_TRUE(lists_equal(search.list(), brute_force(renumbered, skin)));
+  std::vector<Index> identity(3000);
+  std::iota(identity.begin(), identity.end(), 0);
+  EXPECT_EQ(search.build_order(), identity);
+
+  std::mt19937 rng(5u);
+  std::uniform_int_distribution<Index> pick(0, 2999);
+  for (int swap = 0; swap < 20; ++swap) {
+    const Index a = pick(rng), b = pick(rng);
+    std::swap(renumbered.x[a], renumbered.x[b]);
+    std::swap(renumbered.h[a], renumbered.h[b]);
+  }
+  search.build(renumbered.x, renumbered.h, skin);
+  EXPECT_TRUE(lists_equal(search.list(), brute_force(renumbered, skin)));
+}
+
+// --- Degenerate inputs --------------------------------------------------------------------
+
+TEST(NeighbourSearch, EmptyAndSingle) {
+  NeighbourSearch search;
+  search.build({}, {}, 0.1);
+  EXPECT_EQ(search.list().offsets, std::vector<Index>{0});
+  EXPECT_EQ(search.list().pair_count(), 0u);
+  EXPECT_FALSE(search.needs_update({}, {}));
+
+  const std::vector<Vec3> x{Vec3(1, 2, 3)};
+  const std::vector<double> h{0.5};
+  search.build(x, h, 0.1);
+  EXPECT_EQ(search.list().offsets, (std::vector<Index>{0, 0}));
+  EXPECT_FALSE(search.needs_update(std::vector<Vec3>{Vec3(50, 2, 3)}, h)); // no pair to miss
+}
+
+TEST(NeighbourSearch, AllParticlesAtOnePoint) {
+  Cloud c;
+  for (Index i = 0; i < 60; ++i) {
+    c.x.emplace_back(0.5, 0.5, 0.5);
+    c.h.push_back(0.01 * (1 + i % 3));
+  }
+  NeighbourSearch search;
+  search.build(c.x, c.h, 0.0);
+  EXPECT_EQ(search.list().pair_count(), 60u * 59u);
+  EXPECT_TRUE(lists_equal(search.list(), brute_force(c, 0.0)));
+  EXPECT_EQ(search.grid().count(), 1);
+  // With zero cutoff nothing is within r < 0.
+  std::fill(c.h.begin(), c.h.end(), 0.0);
+  search.build(c.x, c.h, 0.0);
+  EXPECT_EQ(search.list().pair_count(), 0u);
+}
+
+TEST(NeighbourSearch, ZeroCutoffOnSpreadPoints) {
+  Cloud c = random_cloud(5000, {1.0, 1.0, 1.0}, 8u);
+  std::fill(c.h.begin(), c.h.end(), 0.0);
+  NeighbourSearch search;
+  search.build(c.x, c.h, 0.0);
+  EXPECT_EQ(search.list().pair_count(), 0u);
+  EXPECT_LE(search.grid().count(), 2 * 5000 + 1);
+}
+
+// A few far-flung particles (up to an overflowing extent) must not blow up the grid: cells
+// stay ≤ 2N + 1, lists stay right.
+TEST(NeighbourSearch, HugeBoundingBoxFewParticles) {
+  Cloud c = random_cloud(300, {0.01, 0.01, 0.01}, 21u);
+  for (const Vec3& far : {Vec3(1e9, 0, 0), Vec3(0, -1e12, 3e11), Vec3(1.5e308, 0, 0),
+                          Vec3(-1.5e308, 1.5e308, 0), Vec3(1e9 + 1e-5, 0, 0)}) {
+    c.x.push_back(far);
+    c.h.push_back(c.h[0]);
+  }
+  NeighbourSearch search;
+  search.build(c.x, c.h, 0.1 * c.h[0]);
+  EXPECT_LE(search.grid().count(), 2 * 305 + 1);
+  const Rows expected = brute_force(c, 0.1 * c.h[0]);
+  EXPECT_EQ(expected[300], std::vector<Index>{304}); // the two far neighbours find each other
+  EXPECT_TRUE(lists_equal(search.list(), expected));
+}
+
+TEST(NeighbourSearch, InvalidInputThrowsNamingTheParticle) {
+  Cloud c = random_cloud(5000, {1.0, 1.0, 1.0}, 4u); // above parallel_min_items
+  NeighbourSearch search;
+  const auto message = [&](const Cloud& bad, double skin) -> std::string {
+    try {
+      search.build(bad.x, bad.h, skin);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  Cloud bad = c;
+  bad.x[4321].z() = std::numeric_limits<double>::quiet_NaN();
+  bad.x[4400].x() = std::numeric_limits<double>::infinity();
+  EXPECT_NE(message(bad, 0.0).find("particle 4321 "), std::string::npos) << message(bad, 0.0);
+  EXPECT_TRUE(search.needs_update(c.x, c.h)); // a failed build leaves no list to trust
+  EXPECT_THROW(NeighbourSearch::cell_order(bad.x, 0.1), Error);
+
+  bad = c;
+  bad.h[17] = -1.0;
+  EXPECT_NE(message(bad, 0.0).find("particle 17 "), std::string::npos) << message(bad, 0.0);
+  bad.h[17] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(message(bad, 0.0).find("particle 17 "), std::string::npos);
+  EXPECT_NE(message(c, -0.1).find("skin"), std::string::npos);
+  bad = c;
+  bad.h.pop_back();
+  EXPECT_THROW(search.build(bad.x, bad.h, 0.0), Error);
+  EXPECT_THROW(NeighbourSearch::cell_order(c.x, 0.0), Error);
+}
+
+} // namespace
