@@ -80,20 +80,21 @@ int main(int argc, char** argv) {
   const Particles shuffled = permuted(lattice, shuffle);
   const Particles cell_sorted =
       permuted(shuffled, NeighbourSearch::cell_order(shuffled.x, 2.4 * dp));
-  NeighbourSearch first;
-  first.build(shuffled.x, shuffled.h, 0.0);
-  const Particles build_ordered = permuted(shuffled, first.build_order());
-  const std::vector<std::pair<std::string, const Particles*>> orders{
-      {"lattice", &lattice},
-      {"shuffled", &shuffled},
-      {"cell_order_2h", &cell_sorted},
-      {"build_order", &build_ordered}};
 
   nlohmann::json runs = nlohmann::json::array();
-  for (const double skin : {0.0, 0.24 * dp})
+  for (const double skin : {0.0, 0.24 * dp}) {
+    NeighbourSearch first;
+    first.build(shuffled.x, shuffled.h, skin);
+    const Particles build_ordered = permuted(shuffled, first.build_order());
+    const std::vector<std::pair<std::string, const Particles*>> orders{
+        {"lattice", &lattice},
+        {"shuffled", &shuffled},
+        {"cell_order_2h", &cell_sorted},
+        {"build_order", &build_ordered}};
     for (const auto& [order, p] : orders) {
-      nlohmann::json run{{"order", order}, {"skin_over_dp", skin / dp}};
+      nlohmann::json timings = nlohmann::json::array();
       double base = 0;
+      std::size_t entries = 0;
       for (int t : threads) {
         omp_set_num_threads(t);
         NeighbourSearch search;
@@ -101,20 +102,25 @@ int main(int argc, char** argv) {
         const double build = best_ms(repetitions, [&] { search.build(p->x, p->h, skin); });
         bool update = false;
         const double check =
-            best_ms(repetitions, [&] { update |= search.needs_update(p->x, p->h); });
-        const double pairs = static_cast<double>(search.list().pair_count());
-        if (base == 0)
-          base = build;
-        run["entries"] = search.list().pair_count();
-        run["neighbours_per_particle"] = pairs / static_cast<double>(p->x.size());
-        run["threads_" + std::to_string(t)] = {{"build_ms", build},
-                                               {"entries_per_s", pairs / (build * 1e-3)},
-                                               {"needs_update_ms", check},
-                                               {"speedup", base / build},
-                                               {"needs_update", update}};
+            best_ms(repetitions, [&] { update = update || search.needs_update(p->x, p->h); });
+        entries = search.list().pair_count();
+        base = base > 0 ? base : build;
+        timings.push_back({{"threads", t},
+                           {"build_ms", build},
+                           {"pairs_per_s", 0.5 * static_cast<double>(entries) / (build * 1e-3)},
+                           {"speedup", base / build},
+                           {"needs_update_ms", check},
+                           {"needs_update", update}});
       }
-      runs.push_back(run);
+      runs.push_back({{"order", order},
+                      {"skin_over_dp", skin / dp},
+                      {"pairs", entries / 2},
+                      {"list_entries", entries},
+                      {"neighbours_per_particle",
+                       static_cast<double>(entries) / static_cast<double>(p->x.size())},
+                      {"timings", timings}});
     }
+  }
   const nlohmann::json out{{"benchmark", "sph_neighbour_search"},
                            {"particles", lattice.x.size()},
                            {"h_over_dp", 1.2},

@@ -1,10 +1,25 @@
-// SPH particles of one body on a cell-centred cubic lattice of spacing Δp (METHOD.md §2).
+// SPH particles of one body on a cubic lattice of spacing Δp (METHOD.md §2), and the particle
+// faces of a box body.
 //
-// Box: n_i = max(1, round(L_i / Δp)) particles per direction at min + (k + ½)·L_i / n_i, so the
-//   cells tile the box exactly. When L_i / Δp is not an integer the spacing in that direction is
-//   L_i / n_i instead of Δp (within a factor 1 ± 1/(2 n_i) of it). Particle volume is the product
-//   of the three spacings (Δp³ when every L_i is a multiple of Δp), so the total mass is exactly
-//   ρ0 · box volume.
+// Box, lattice centred (the default): n_i = max(1, round(L_i / Δp)) particles per direction at
+//   min + (k + ½)·L_i / n_i, so the cells tile the box exactly. When L_i / Δp is not an integer
+//   the spacing in that direction is L_i / n_i instead of Δp (within a factor 1 ± 1/(2 n_i) of
+//   it). Particle volume is the product of the three spacings (Δp³ when every L_i is a multiple
+//   of Δp), so the total mass is exactly ρ0 · box volume.
+// Box, lattice nodes: the same n_i cells per direction, but n_i + 1 particles per direction on
+//   the cell corners min + k·L_i / n_i, k = 0 … n_i: the nodes of the hex mesh of the same box
+//   with element_size Δp, so SPH and FE probes can sit at identical points. Each particle's
+//   volume is its node's lumped (row-sum) volume, the product over the three directions of its
+//   tributary length (L_i / n_i inside, half of it at the two ends): the lumped nodal masses of
+//   that hex mesh, so the total mass is again exactly ρ0 · box volume. Surface particles carry
+//   half (face), quarter (edge) or eighth (corner) masses, so their volume m/ρ is smaller than
+//   Δp³. This is the arrangement of Zhang et al.'s SPH bar (6 × 6 × 51 particles at 1 mm on a
+//   5 × 5 mm bar).
+// Box faces (both lattices): Model::particle_faces["<body>/<face>"] for xmin … zmax holds the
+//   outermost particle layer along the face (nodes: the particles on the face; centred: the
+//   first layer, half a spacing inside), each with its tributary area (the product of its two
+//   in-plane tributary lengths, so the areas of a face sum to its area exactly up to rounding),
+//   and the outward unit normal. Cylinders and files get no particle faces.
 // Cylinder and file: cells of exactly Δp covering the body's bounding box, centred on it
 //   (covering_lattice); a particle at each cell centre inside the body. Cylinder: radial distance
 //   < R and axial coordinate in [0, L) from the base. File: enclosed by the triangulated boundary
@@ -55,13 +70,15 @@ public:
     model_.x_p.reserve(model_.x_p.size() + count);
     model_.body_p.reserve(model_.x_p.size() + count);
   }
-  void add(const Vec3& x) {
+  void add(const Vec3& x) { add(x, mass_); }
+  void add(const Vec3& x, double mass) {
     model_.x_p.push_back(x);
-    model_.m_p.push_back(mass_);
+    model_.m_p.push_back(mass);
     model_.rho_p.push_back(density_);
     model_.h_p.push_back(h_);
     model_.body_p.push_back(body_id_);
   }
+  std::size_t first() const { return first_; }
   std::size_t added() const { return model_.x_p.size() - first_; }
 
 private:
@@ -71,12 +88,75 @@ private:
   std::size_t first_;
 };
 
-void fill_box(ParticleSink& sink, const Lattice& l) {
-  sink.reserve(l.cell_count());
-  for (Index i = 0; i < l.n[0]; ++i)
-    for (Index j = 0; j < l.n[1]; ++j)
-      for (Index k = 0; k < l.n[2]; ++k)
-        sink.add(l.centre(i, j, k));
+// A box's particles per direction: coordinates x[a] and tributary lengths w[a] (each particle's
+// share of the box's length along a). Particle (i, j, k) sits at (x[0][i], x[1][j], x[2][k]) with
+// volume w[0][i]·w[1][j]·w[2][k] and flat index (i·n1 + j)·n2 + k, nd = x[d].size().
+struct BoxGrid {
+  std::array<std::vector<double>, 3> x, w;
+
+  std::size_t size(int a) const { return x[a].size(); }
+  std::size_t count() const { return size(0) * size(1) * size(2); }
+  std::size_t index(std::size_t i, std::size_t j, std::size_t k) const {
+    return (i * size(1) + j) * size(2) + k;
+  }
+};
+
+// Centred: the cell centres of `cells`. Nodes: their corners, exactly min and max at the ends.
+BoxGrid box_grid(const BoxGeometry& box, const Lattice& cells, BodySpec::Lattice lattice) {
+  BoxGrid g;
+  for (int a = 0; a < 3; ++a) {
+    const Index n = cells.n[a];
+    const double step = cells.step[a];
+    if (lattice == BodySpec::Lattice::Centred) {
+      for (Index k = 0; k < n; ++k) {
+        g.x[a].push_back(cells.first[a] + k * step);
+        g.w[a].push_back(step);
+      }
+      continue;
+    }
+    for (Index k = 0; k <= n; ++k) {
+      g.x[a].push_back(std::lerp(box.min[a], box.max[a], static_cast<double>(k) / n));
+      g.w[a].push_back(k == 0 || k == n ? 0.5 * step : step);
+    }
+  }
+  return g;
+}
+
+void fill_box(ParticleSink& sink, const BoxGrid& g, double density) {
+  sink.reserve(g.count());
+  for (std::size_t i = 0; i < g.size(0); ++i)
+    for (std::size_t j = 0; j < g.size(1); ++j)
+      for (std::size_t k = 0; k < g.size(2); ++k)
+        sink.add({g.x[0][i], g.x[1][j], g.x[2][k]}, density * (g.w[0][i] * g.w[1][j] * g.w[2][k]));
+}
+
+// The six faces of a box body whose particles start at index `first`.
+void add_box_faces(Model& model, const std::string& body, std::size_t first, const BoxGrid& g) {
+  static constexpr std::array<std::array<const char*, 2>, 3> names{
+      {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}}};
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      ParticleFace face;
+      face.normal[a] = side == 0 ? -1 : 1;
+      // Index ranges [low, high) per direction: the whole grid but one layer along a.
+      std::array<std::size_t, 3> low{0, 0, 0}, high{g.size(0), g.size(1), g.size(2)};
+      low[a] = side == 0 ? 0 : g.size(a) - 1;
+      high[a] = low[a] + 1;
+      const auto area = [&](const std::array<std::size_t, 3>& at) {
+        double product = 1;
+        for (int d = 0; d < 3; ++d)
+          if (d != a)
+            product *= g.w[d][at[d]];
+        return product;
+      };
+      for (std::size_t i = low[0]; i < high[0]; ++i)
+        for (std::size_t j = low[1]; j < high[1]; ++j)
+          for (std::size_t k = low[2]; k < high[2]; ++k) {
+            face.particles.push_back(static_cast<Index>(first + g.index(i, j, k)));
+            face.area.push_back(area({i, j, k}));
+          }
+      model.particle_faces[body + "/" + names[a][side]] = std::move(face);
+    }
 }
 
 // Axis-aligned bounds of a cylinder: the base and top discs, each a disc of radius R about the
@@ -210,15 +290,21 @@ void append_particles(Model& model, int body_id, const BodySpec& body, double de
                density);
   const double h = body.h_factor * dp;
   const GeometrySpec& g = body.geometry;
+  SPHFEM_CHECK(body.lattice == BodySpec::Lattice::Centred || g.kind == GeometrySpec::Kind::Box,
+               "lattice nodes is only possible for a box geometry");
   switch (g.kind) {
   case GeometrySpec::Kind::Box: {
     const Vec3 size = g.box.max - g.box.min;
     SPHFEM_CHECK(size.allFinite() && (size.array() > 0).all(),
                  "box max must exceed min in every direction");
     check_fits(dp, size.minCoeff(), "its smallest side is");
-    const Lattice l = box_lattice(g.box, dp);
-    ParticleSink sink(model, body_id, l.step.prod(), density, h);
-    fill_box(sink, l);
+    const Lattice cells = box_lattice(g.box, dp);
+    if (body.lattice == BodySpec::Lattice::Nodes) // one more point than cells per direction
+      check_cell_count({cells.n[0] + 1.0, cells.n[1] + 1.0, cells.n[2] + 1.0}, dp);
+    const BoxGrid grid = box_grid(g.box, cells, body.lattice);
+    ParticleSink sink(model, body_id, 0, density, h);
+    fill_box(sink, grid, density);
+    add_box_faces(model, body.name, sink.first(), grid);
     return;
   }
   case GeometrySpec::Kind::Cylinder: {

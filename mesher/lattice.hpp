@@ -1,5 +1,7 @@
-// Mesher internals for SPH bodies: the cell-centred cubic lattice a body's particles sit on.
-// lattice.cpp fills boxes and cylinders analytically and appends the particles;
+// Mesher internals for SPH bodies: the cubic lattice a body's particles sit on (cell centres;
+// for a box optionally the cell corners, the nodes of the matching hex mesh).
+// lattice.cpp fills boxes and cylinders analytically, appends the particles and names a box's
+// particle faces;
 // solid_file.cpp reads the volumes of a gmsh geometry file as closed triangulated surfaces;
 // ray_parity.cpp decides which lattice points such a surface encloses. Verified by
 // tests/mesher/lattice_test.cpp.
@@ -60,8 +62,10 @@ void mark_enclosed(const Triangulation& surface, const Lattice& lattice,
 std::vector<Triangulation> solid_boundaries(const std::filesystem::path& file, double size);
 
 // Appends the particles of SPH body `body` (id `body_id`, material density ρ0 in kg/m³) to
-// `model`, column by column of its lattice (x slowest, z fastest). File geometries need a gmsh
-// session. Throws sphfem::Error if the spacing exceeds the body or no lattice point is inside.
+// `model`, column by column of its lattice (x slowest, z fastest); for a box also its six
+// particle faces "<body>/xmin" … "<body>/zmax" (Model::particle_faces; rules in lattice.cpp).
+// File geometries need a gmsh session. Throws sphfem::Error if the spacing exceeds the body, no
+// lattice point is inside, or lattice nodes is asked for a geometry other than a box.
 void append_particles(Model& model, int body_id, const BodySpec& body, double density);
 
 } // namespace sphfem::mesher

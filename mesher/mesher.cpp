@@ -140,12 +140,15 @@ std::string geometry_signature(const GeometrySpec& g) {
   return "unknown";
 }
 
-// The discretisation keys of a body. An SPH body's particles carry its material's density.
+// The discretisation keys of a body. An SPH body's particles carry its material's density. Its
+// lattice is named also when centred (the default), so SPH models written before particle faces
+// existed are stale and get remeshed.
 std::string resolution_signature(const Case& c, const BodySpec& body) {
   if (body.method == Method::Fem)
     return "element_size=" + exact(body.element_size);
+  const char* lattice = body.lattice == BodySpec::Lattice::Nodes ? "nodes" : "centred";
   return "spacing=" + exact(body.spacing) + " h_factor=" + exact(body.h_factor) +
-         " density=" + exact(c.material(body.material).density);
+         " lattice=" + lattice + " density=" + exact(c.material(body.material).density);
 }
 
 } // namespace

@@ -16,16 +16,19 @@ namespace sphfem {
 //   Cylinder: an O-grid (square core + 4 ring blocks) extruded along the axis, faces base
 //   (at `base`), top, side. Hexes have positive volume in gmsh order; face-set quads have
 //   outward right-hand normals.
-// SPH bodies become particles on a cell-centred cubic lattice of spacing Δp (rules in
-// mesher/lattice.cpp): a box is tiled exactly; cylinders and geometry files keep the lattice
-// points inside them. Mass ρ0 · cell volume, density ρ0 (the material's), h = h_factor · Δp.
+// SPH bodies become particles on a cubic lattice of spacing Δp (rules in mesher/lattice.cpp):
+// a box is tiled exactly, its particles at the cell centres (lattice centred) or on the nodes of
+// the matching hex mesh (lattice nodes, lumped nodal masses); cylinders and geometry files keep
+// the cell centres inside them. Mass ρ0 · the particle's volume, density ρ0 (the material's),
+// h = h_factor · Δp. An SPH box also gets particle faces xmin … zmax (Model::particle_faces:
+// outermost particle layer, tributary areas, outward normal).
 // Model::spacing_b gets Δp for SPH bodies and 0 for FE bodies.
 // Throws sphfem::Error naming the body on any failure.
 Model mesh_case(const Case& c);
 
 // A stable text signature of everything in the case that affects the model (per body in
-// order: name, method, geometry kind and numbers, element_size or spacing, h_factor and
-// material density; a geometry file by its path and an FNV-1a hash of its bytes — files it
+// order: name, method, geometry kind and numbers, element_size or spacing, h_factor, lattice
+// and material density; a geometry file by its path and an FNV-1a hash of its bytes — files it
 // includes are not hashed). Doubles round-trip exactly. Throws if a geometry file is unreadable.
 std::string mesh_signature(const Case& c);
 

@@ -44,14 +44,18 @@ enum class Method { Fem, Sph };
 
 // Named faces: a box has xmin, xmax, ymin, ymax, zmin, zmax; a cylinder has base, top, side.
 // FE bodies are meshed with element_size; SPH bodies are filled with a cubic lattice of
-// the given spacing Δp, smoothing length h = h_factor · Δp.
+// the given spacing Δp, smoothing length h = h_factor · Δp. An SPH box's lattice puts the
+// particles at cell centres (Centred) or on the nodes of the matching hex grid (Nodes, box only).
 struct BodySpec {
+  enum class Lattice { Centred, Nodes };
+
   std::string name;
   Method method = Method::Fem;
   GeometrySpec geometry;
-  double element_size = 0; // m (fem)
-  double spacing = 0;      // m (sph)
-  double h_factor = 1.2;   // (sph)
+  double element_size = 0;            // m (fem)
+  double spacing = 0;                 // m (sph)
+  double h_factor = 1.2;              // (sph)
+  Lattice lattice = Lattice::Centred; // (sph)
   std::string material;
   Vec3 velocity = Vec3::Zero(); // initial velocity, m/s
 };
@@ -105,7 +109,7 @@ struct SphSpec {
   double beta = 2.0;  // quadratic coefficient
   bool artificial_stress = true;
   double epsilon = 0.3;      // artificial stress factor
-  double stress_exponent = 4; // n in f_ij^n
+  double stress_exponent = 4; // n in f_ij^n, a positive integer
   bool xsph = true;
   double xsph_epsilon = 0.5;
   bool variable_h = true; // dh/dt = −(h/3ρ) dρ/dt

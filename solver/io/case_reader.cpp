@@ -71,6 +71,18 @@ std::string format(const Vec3& v) {
   return out.str();
 }
 
+std::string geometry_name(GeometrySpec::Kind kind) {
+  switch (kind) {
+  case GeometrySpec::Kind::Box:
+    return "box";
+  case GeometrySpec::Kind::Cylinder:
+    return "cylinder";
+  case GeometrySpec::Kind::File:
+    return "geometry file";
+  }
+  return "geometry";
+}
+
 Names face_names(GeometrySpec::Kind kind) {
   if (kind == GeometrySpec::Kind::Box)
     return {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
@@ -260,6 +272,7 @@ private:
   GeometrySpec geometry(const Located& at, Method method) const;
   std::filesystem::path geometry_file(const Located& at) const;
   const BodySpec& body_ref(const Located& item, const std::vector<BodySpec>& bodies) const;
+  void check_particle_faces(const Located& at, const BodySpec& body) const;
   BoundaryConditionSpec boundary_condition(const Located& at, const Case& c) const;
   PressureLoadSpec load(const Located& at, const Case& c) const;
   std::vector<ProbeSpec> probes(const Located& at, const Case& c) const;
@@ -508,15 +521,15 @@ GeometrySpec Reader::geometry(const Located& at, Method method) const {
 
 BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& materials) const {
   const Located& at = entry.value;
-  check_map(at,
-            {"method", "geometry", "element_size", "spacing", "h_factor", "material", "velocity"});
+  check_map(at, {"method", "geometry", "element_size", "spacing", "h_factor", "lattice", "material",
+                 "velocity"});
   BodySpec spec;
   spec.name = entry.name;
   spec.method = choice<Method>(required(at, "method", "discretisation: fem or sph"), "method",
                                {{"fem", Method::Fem}, {"sph", Method::Sph}});
   spec.geometry = geometry(required(at, "geometry", "box, cylinder or file"), spec.method);
   if (spec.method == Method::Fem) {
-    for (const std::string key : {"spacing", "h_factor"})
+    for (const std::string key : {"spacing", "h_factor", "lattice"})
       if (const Located sph_only = child(at, key); sph_only.node.IsDefined())
         fail(sph_only, "only allowed for method sph (a fem body takes element_size)");
     spec.element_size =
@@ -527,6 +540,14 @@ BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& mater
     spec.spacing = number(required(at, "spacing", "particle spacing Δp, m"), "> 0 m", positive);
     spec.h_factor = number_or(at, "h_factor", spec.h_factor, "in [1.0, 2.0]",
                               [](double v) { return v >= h_factor_low && v <= h_factor_high; });
+    if (const Located lattice = child(at, "lattice"); lattice.node.IsDefined()) {
+      spec.lattice = choice<BodySpec::Lattice>(
+          lattice, "lattice",
+          {{"centred", BodySpec::Lattice::Centred}, {"nodes", BodySpec::Lattice::Nodes}});
+      if (spec.lattice == BodySpec::Lattice::Nodes && spec.geometry.kind != GeometrySpec::Kind::Box)
+        fail(lattice, "nodes is only allowed for a box geometry (use centred for a " +
+                          geometry_name(spec.geometry.kind) + ")");
+    }
   }
   Names material_names;
   for (const MaterialSpec& material : materials)
@@ -547,6 +568,13 @@ const BodySpec& Reader::body_ref(const Located& item, const std::vector<BodySpec
   return *std::ranges::find(bodies, name, &BodySpec::name);
 }
 
+// Boundary conditions and loads on an SPH body act on its particle faces, which only a box has.
+void Reader::check_particle_faces(const Located& at, const BodySpec& body) const {
+  if (body.method == Method::Sph && body.geometry.kind != GeometrySpec::Kind::Box)
+    fail(at, "'" + body.name + "' is an SPH body with a " + geometry_name(body.geometry.kind) +
+                 ": particle faces exist only for box bodies");
+}
+
 BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& c) const {
   check_map(at, {"type", "body", "face", "velocity", "function"});
   BoundaryConditionSpec spec;
@@ -556,10 +584,11 @@ BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& 
                                     {"velocity", BoundaryType::Velocity},
                                     {"symmetry", BoundaryType::Symmetry}});
   const BodySpec& body = body_ref(at, c.bodies);
-  if (body.method == Method::Sph)
-    fail(child(at, "body"), "'" + body.name +
-                                "' is an SPH body: boundary conditions on particles are not "
-                                "supported yet");
+  check_particle_faces(child(at, "body"), body);
+  if (body.method == Method::Sph && spec.type == BoundaryType::Symmetry)
+    fail(child(at, "type"), "'" + body.name +
+                                "' is an SPH body: symmetry planes for particles (mirror "
+                                "particles) are not supported yet");
   spec.body = body.name;
   spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
   const Located velocity = child(at, "velocity");
@@ -590,10 +619,7 @@ PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
   one_of(required(at, "type", "load type: pressure"), {"pressure"}, "load type");
   PressureLoadSpec spec;
   const BodySpec& body = body_ref(at, c.bodies);
-  if (body.method == Method::Sph)
-    fail(child(at, "body"), "'" + body.name +
-                                "' is an SPH body: pressure loads on particles are not supported "
-                                "yet");
+  check_particle_faces(child(at, "body"), body);
   spec.body = body.name;
   spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
   spec.pressure = number(required(at, "pressure", "pressure, Pa, positive pushes into the body"));
@@ -647,7 +673,7 @@ FemSpec Reader::fem(const Located& at) const {
 // or a map of its parameters (on; missing ones default).
 SphSpec Reader::sph(const Located& at) const {
   check_map(at, {"artificial_viscosity", "artificial_stress", "xsph", "variable_smoothing_length",
-                 "cfl", "skin"});
+                 "gradient_correction", "cfl", "skin"});
   SphSpec spec;
   if (const Located av = child(at, "artificial_viscosity"); av.node.IsDefined()) {
     spec.artificial_viscosity = term(av, {"alpha", "beta"});
@@ -660,7 +686,8 @@ SphSpec Reader::sph(const Located& at) const {
     spec.artificial_stress = term(as, {"epsilon", "n"});
     if (as.node.IsMap()) {
       spec.epsilon = number_or(as, "epsilon", spec.epsilon, ">= 0", non_negative);
-      spec.stress_exponent = number_or(as, "n", spec.stress_exponent, "> 0", positive);
+      spec.stress_exponent = number_or(as, "n", spec.stress_exponent, "a positive integer",
+                                       [](double v) { return v >= 1 && v == std::floor(v); });
     }
   }
   if (const Located xsph = child(at, "xsph"); xsph.node.IsDefined()) {
@@ -670,6 +697,8 @@ SphSpec Reader::sph(const Located& at) const {
   }
   if (const Located variable = child(at, "variable_smoothing_length"); variable.node.IsDefined())
     spec.variable_h = flag(variable);
+  if (const Located correction = child(at, "gradient_correction"); correction.node.IsDefined())
+    spec.gradient_correction = flag(correction);
   spec.cfl = number_or(at, "cfl", spec.cfl, "in (0, 1]", [](double v) { return v > 0 && v <= 1; });
   spec.skin = number_or(at, "skin", spec.skin, ">= 0 (a fraction of the largest 2h)", non_negative);
   return spec;

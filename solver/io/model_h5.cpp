@@ -78,6 +78,13 @@ H5::StrType string_type() {
   return type;
 }
 
+template <class Range>
+void check_indices(const Range& indices, std::size_t count, const std::string& what) {
+  for (const Index i : indices)
+    SPHFEM_CHECK(i >= 0 && static_cast<std::size_t>(i) < count, what, " holds index ", i,
+                 " outside [0, ", count, ")");
+}
+
 // ---- writing ------------------------------------------------------------------------------
 
 void write_attribute(const H5::H5Object& object, const std::string& name,
@@ -173,6 +180,24 @@ void write_particles(const H5::H5File& file, const Model& m) {
   write_array(particles, "body_id", m.body_p);
 }
 
+// /particle_faces/<body>/<face>/{index, area} and the face group's attribute normal.
+void write_particle_faces(const H5::H5File& file, const Model& m) {
+  const H5::Group faces = file.createGroup("particle_faces");
+  for (const auto& [name, face] : m.particle_faces) {
+    check_set_name(name);
+    const std::string what = "particle face '" + name + "'";
+    SPHFEM_CHECK(face.area.size() == face.particles.size(), what, " has ", face.area.size(),
+                 " areas for ", face.particles.size(), " particles");
+    check_indices(face.particles, m.x_p.size(), what);
+    write_array(faces, name + "/index", face.particles);
+    write_attribute(write_array(faces, name + "/area", face.area), "units", "m^2");
+    const hsize_t three = 3;
+    faces.openGroup(name)
+        .createAttribute("normal", H5Type<double>::file(), H5::DataSpace(1, &three))
+        .write(H5Type<double>::memory(), face.normal.data());
+  }
+}
+
 void write_model(const H5::H5File& file, const Model& m) {
   SPHFEM_CHECK(m.body_n.size() == m.x_n.size(), "node body ids do not match the nodes");
   SPHFEM_CHECK(m.body_e.size() == m.hex_e.size(), "element body ids do not match the elements");
@@ -199,6 +224,7 @@ void write_model(const H5::H5File& file, const Model& m) {
   write_sets(file.createGroup("node_sets"), m.node_sets, 0);
   write_sets(file.createGroup("face_sets"), m.face_sets, 4);
   write_particles(file, m);
+  write_particle_faces(file, m);
 }
 
 // ---- reading ------------------------------------------------------------------------------
@@ -306,13 +332,6 @@ std::vector<std::string> set_names(const H5::Group& root, const std::string& gro
   return names;
 }
 
-template <class Range>
-void check_indices(const Range& indices, std::size_t count, const std::string& what) {
-  for (const Index i : indices)
-    SPHFEM_CHECK(i >= 0 && static_cast<std::size_t>(i) < count, what, " holds index ", i,
-                 " outside [0, ", count, ")");
-}
-
 void check_header(const H5::H5File& file) {
   const std::string format = read_string_attribute(file, "format");
   SPHFEM_CHECK(format == format_name, "not an sphfem model (format '", format, "', expected '",
@@ -367,6 +386,59 @@ void read_particles(const H5::H5File& file, Model& m) {
                  m.body_names[m.body_p[i]], "', spacing 0: not an SPH body) at index ", i);
 }
 
+// Paths (relative to `group`) of the particle faces below it: groups holding a dataset, or
+// nothing at all (then reported as missing their datasets); other groups are searched.
+void list_particle_faces(const H5::Group& group, const std::string& prefix,
+                         std::vector<std::string>& paths) {
+  for (hsize_t i = 0; i < group.getNumObjs(); ++i) {
+    const std::string name = group.getObjnameByIdx(i);
+    if (group.childObjType(name) != H5O_TYPE_GROUP)
+      continue;
+    const H5::Group child = group.openGroup(name);
+    bool face = child.getNumObjs() == 0;
+    for (hsize_t j = 0; j < child.getNumObjs() && !face; ++j)
+      face = child.childObjType(child.getObjnameByIdx(j)) == H5O_TYPE_DATASET;
+    if (face)
+      paths.push_back(prefix + name);
+    else
+      list_particle_faces(child, prefix + name + "/", paths);
+  }
+}
+
+Vec3 read_unit_vector_attribute(const H5::H5Object& object, const std::string& name,
+                                const std::string& where) {
+  SPHFEM_CHECK(object.attrExists(name), "missing attribute '", name, "' of ", where);
+  const H5::Attribute attribute = object.openAttribute(name);
+  SPHFEM_CHECK(attribute.getTypeClass() == H5T_FLOAT &&
+                   attribute.getSpace().getSimpleExtentNpoints() == 3,
+               "attribute '", name, "' of ", where, " is not 3 floating-point numbers");
+  Vec3 v;
+  attribute.read(H5Type<double>::memory(), v.data());
+  SPHFEM_CHECK(v.allFinite() && std::abs(v.norm() - 1) <= 1e-9, "attribute '", name, "' of ", where,
+               " is not a unit vector: (", v.x(), ", ", v.y(), ", ", v.z(), ")");
+  return v;
+}
+
+// /particle_faces, or none in a file written before it existed. Needs the particles.
+void read_particle_faces(const H5::H5File& file, Model& m) {
+  if (!file.nameExists("particle_faces"))
+    return;
+  std::vector<std::string> names;
+  list_particle_faces(file.openGroup("particle_faces"), "", names);
+  for (const std::string& name : names) {
+    const std::string path = "particle_faces/" + name;
+    ParticleFace face;
+    face.particles = read_array<Index>(file, path + "/index");
+    face.area = read_array<double>(file, path + "/area");
+    SPHFEM_CHECK(face.area.size() == face.particles.size(), path, "/area has ", face.area.size(),
+                 " entries for ", face.particles.size(), " particles");
+    check_indices(face.particles, m.x_p.size(), path + "/index");
+    check_values(face.area, path + "/area", false);
+    face.normal = read_unit_vector_attribute(file.openGroup(path), "normal", path);
+    m.particle_faces[name] = std::move(face);
+  }
+}
+
 Model read_model(const H5::H5File& file) {
   check_header(file);
   Model m;
@@ -397,6 +469,7 @@ Model read_model(const H5::H5File& file) {
       check_indices(q, n, "face set '" + name + "'");
   }
   read_particles(file, m);
+  read_particle_faces(file, m);
   return m;
 }
 

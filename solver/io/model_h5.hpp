@@ -16,11 +16,16 @@
 //   /particles/density P, units "kg/m^3"
 //   /particles/h       P smoothing lengths, units "m"
 //   /particles/body_id P
-// /particles and /bodies/spacing were added without a version change: the writer always writes
-// them (P may be 0), and a file without them (written before SPH bodies existed) reads as a
-// model with no particles and spacing 0 for every body.
+//   /particle_faces/<body>/<face>/index  particle indices of face "<body>/<face>"
+//   /particle_faces/<body>/<face>/area   their tributary areas, units "m^2"
+//   /particle_faces/<body>/<face>        attribute normal = outward unit normal (3 float64)
+// /particles, /bodies/spacing and /particle_faces were added without a version change: the
+// writer always writes them (P may be 0, /particle_faces may be empty), and a file without them
+// (written before SPH bodies or particle faces existed) reads as a model with no particles,
+// spacing 0 for every body and no particle faces.
 // A set's name maps to an HDF5 path below /node_sets or /face_sets ("bar/zmin" is dataset
-// zmin in group bar). Large datasets are chunked and compressed (shuffle + deflate).
+// zmin in group bar), a particle face's to a group below /particle_faces (group zmin in group
+// bar). Large datasets are chunked and compressed (shuffle + deflate).
 #pragma once
 
 #include "solver/state/model.hpp"
@@ -31,12 +36,14 @@ namespace sphfem {
 
 // Writes `file` + ".tmp" and renames it over `file`, so a crash never leaves a torn file.
 // An empty Model::spacing_b is written as 0 for every body. Throws sphfem::Error naming the
-// file if it cannot be written or the model's arrays do not match.
+// file if it cannot be written or the model's arrays do not match (including a particle face
+// whose areas do not match its particles or whose indices are out of range).
 void write_model_h5(const Model& m, const std::filesystem::path& file);
 
 // Reads and checks a model file (format, version, shapes, index ranges; particles: positive
-// finite mass, density and h, finite positions, bodies with a positive spacing); any problem is
-// a sphfem::Error naming the file and what is wrong or missing.
+// finite mass, density and h, finite positions, bodies with a positive spacing; particle faces:
+// particle indices in range, one positive finite area each, a unit normal); any problem is a
+// sphfem::Error naming the file and what is wrong or missing.
 Model read_model_h5(const std::filesystem::path& file);
 
 } // namespace sphfem

@@ -88,7 +88,7 @@ vtkNew<vtkUnstructuredGrid> make_grid(const Model& m) {
   return grid;
 }
 
-// The particle arrays must all have one entry per particle.
+// The particle arrays must all have one entry per particle, the particle faces' indices in range.
 vtkNew<vtkUnstructuredGrid> make_particle_grid(const Model& m) {
   vtkNew<vtkUnstructuredGrid> grid;
   grid->SetPoints(make_points(m.x_p));
@@ -97,6 +97,12 @@ vtkNew<vtkUnstructuredGrid> make_particle_grid(const Model& m) {
   grid->GetPointData()->AddArray(double_array("mass", m.m_p));
   grid->GetPointData()->AddArray(double_array("h", m.h_p));
   grid->GetPointData()->AddArray(double_array("density", m.rho_p));
+  for (const auto& [name, face] : m.particle_faces) {
+    std::vector<int> flag(m.x_p.size(), 0);
+    for (const Index i : face.particles)
+      flag.at(static_cast<std::size_t>(i)) = 1;
+    grid->GetPointData()->AddArray(int_array("set:" + name, flag));
+  }
   return grid;
 }
 
@@ -156,6 +162,11 @@ void write_particles_vtu(const Model& m, const fs::path& file) {
   if (m.m_p.size() != p || m.rho_p.size() != p || m.h_p.size() != p || m.body_p.size() != p)
     throw Error(detail::concat("cannot write model file ", file,
                                ": particle arrays do not match the ", p, " particle positions"));
+  for (const auto& [name, face] : m.particle_faces)
+    for (const Index i : face.particles)
+      if (i < 0 || static_cast<std::size_t>(i) >= p)
+        throw Error(detail::concat("cannot write model file ", file, ": particle face '", name,
+                                   "' holds index ", i, " outside [0, ", p, ")"));
   write_grid(make_particle_grid(m), file);
 }
 

@@ -33,6 +33,15 @@ Mat3 artificial_stress(const Mat3& sigma, double rho, double epsilon) {
   return R;
 }
 
+// x^n by repeated squaring: std::pow took a fifth of the force loop for the usual n = 4.
+double power(double x, int n) {
+  double result = 1.0;
+  for (; n > 0; n >>= 1, x *= x)
+    if (n & 1)
+      result *= x;
+  return result;
+}
+
 double sound_speed(const ElasticConstants& c, double rho) {
   return std::sqrt(c.p_wave_modulus() / rho);
 }
@@ -121,6 +130,7 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
 double sph_forces(Particles& p, const NeighbourList& list,
                   const std::vector<ElasticConstants>& materials, const SphSpec& spec) {
   const Index n = p.size();
+  const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   double dt_min = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(min : dt_min) if (n > parallel_min_items / 16)
   for (Index i = 0; i < n; ++i) {
@@ -144,7 +154,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
       Mat3 pair = A_i + total_stress(p, j) / (rho_j * rho_j);
       if (spec.artificial_stress) {
         const double dp = 0.5 * (p.dp_p[i] + p.dp_p[j]);
-        const double fij = std::pow(kernel_W(r, h_ij) / kernel_W(dp, h_ij), spec.stress_exponent);
+        const double fij = power(kernel_W(r, h_ij) / kernel_W(dp, h_ij), exponent);
         const Vec3 f_R = (mm * fij) * ((p.R_p[i] + p.R_p[j]) * grad);
         f += f_R;
         heat -= 0.5 * f_R.dot(v_ij);

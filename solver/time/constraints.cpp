@@ -39,6 +39,8 @@ Vec3 plane_normal(const Model& model, const std::string& body, const std::string
 
 Constraints::Constraints(const Case& c, const Model& model) {
   for (const auto& bc : c.boundary_conditions) {
+    if (c.bodies[c.body_index(bc.body)].method == Method::Sph)
+      continue; // particle faces: ParticleBoundaries
     const auto& nodes = node_set(model, bc.body, bc.face);
     switch (bc.type) {
     case BoundaryType::Fixed:

@@ -8,6 +8,8 @@ namespace sphfem {
 
 PressureLoads::PressureLoads(const Case& c, const Model& model) {
   for (const auto& load : c.loads) {
+    if (c.bodies[c.body_index(load.body)].method == Method::Sph)
+      continue; // particle faces: ParticleBoundaries
     const auto it = model.face_sets.find(load.body + "/" + load.face);
     SPHFEM_CHECK(it != model.face_sets.end(), "model has no face ", load.body, "/", load.face,
                  " (re-mesh: the model does not match the case)");

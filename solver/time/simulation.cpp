@@ -83,6 +83,7 @@ Simulation::Simulation(const Case& c, const Model& model)
   loads_ = PressureLoads(c, model);
   constraints_.apply_initial(nodes_.v_n);
   particles_ = ParticleSystem(c, model, materials_);
+  particle_boundaries_ = ParticleBoundaries(c, model);
 
   dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
   initial_energy_ = energies().kinetic;
@@ -119,6 +120,13 @@ void Simulation::step(double dt) {
   for (Index i = 0; i < n; ++i)
     v[i] += (dt_v / m[i]) * f[i];
   particles_.kick(dt_v);
+  if (!particle_boundaries_.empty()) {
+    const ReactionTotals on_particles =
+        particle_boundaries_.apply(time_, time_ + 0.5 * dt, dt_v, particles_);
+    external_work_ += on_particles.work;
+    external_impulse_ += on_particles.impulse;
+    impulse_scale_ += on_particles.impulse.norm();
+  }
 
   if (!loads_.empty()) {
     const auto loaded = deterministic_sum(n, WorkAndImpulse{}, [&](Index i) {

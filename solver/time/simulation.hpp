@@ -15,6 +15,7 @@
 #include "solver/state/model.hpp"
 #include "solver/state/nodes.hpp"
 #include "solver/time/constraints.hpp"
+#include "solver/time/particle_boundaries.hpp"
 #include "solver/time/pressure_loads.hpp"
 
 #include <algorithm>
@@ -76,6 +77,7 @@ private:
   NodeGather gather_;
   Constraints constraints_;
   PressureLoads loads_;
+  ParticleBoundaries particle_boundaries_;
 
   double time_ = 0;
   long long steps_ = 0;

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -395,6 +396,7 @@ TEST(CaseReaderSph, ReadsSphBodyWithDefaults) {
   EXPECT_EQ(bar.geometry.kind, GeometrySpec::Kind::Box);
   EXPECT_NEAR(bar.spacing, 0.001, 1e-18);
   EXPECT_NEAR(bar.h_factor, 1.2, 1e-15);
+  EXPECT_EQ(bar.lattice, BodySpec::Lattice::Centred);
   EXPECT_EQ(bar.element_size, 0);
   // The sph section's defaults: every term on.
   EXPECT_TRUE(c.sph.artificial_viscosity);
@@ -515,8 +517,13 @@ TEST(CaseReaderSph, RejectsBadSphSectionValues) {
                       "case.yaml:11: sph.artificial_viscosity.beta: ", "must be >= 0"));
   EXPECT_TRUE(reports(sph_error("{artificial_stress: {epsilon: -0.3}}"),
                       "case.yaml:11: sph.artificial_stress.epsilon: ", "must be >= 0"));
-  EXPECT_TRUE(reports(sph_error("{artificial_stress: {n: 0}}"),
-                      "case.yaml:11: sph.artificial_stress.n: ", "must be > 0, got 0"));
+  EXPECT_TRUE(
+      reports(sph_error("{artificial_stress: {n: 0}}"),
+              "case.yaml:11: sph.artificial_stress.n: ", "must be a positive integer, got 0"));
+  EXPECT_TRUE(reports(sph_error("{artificial_stress: {n: 2.5}}"),
+                      "case.yaml:11: sph.artificial_stress.n: ", "must be a positive integer"));
+  EXPECT_TRUE(reports(sph_error("{gradient_correction: 3}"),
+                      "case.yaml:11: sph.gradient_correction: ", "must be true or false, got 3"));
   EXPECT_TRUE(reports(sph_error("{xsph: {epsilon: -1}}"),
                       "case.yaml:11: sph.xsph.epsilon: ", "must be >= 0"));
   EXPECT_TRUE(
@@ -546,14 +553,112 @@ TEST(CaseReaderSph, RejectsMalformedSphTerms) {
   EXPECT_TRUE(reports(sph_error("on"), "case.yaml:11: sph: ", "must be a map"));
 }
 
-TEST(CaseReaderSph, RejectsBoundaryConditionsAndLoadsOnSphBodies) {
-  EXPECT_EQ(error_of(kSph + "boundary_conditions:\n  - {type: fixed, body: bar, face: zmin}\n"),
-            "case.yaml:12: boundary_conditions.0.body: 'bar' is an SPH body: boundary "
-            "conditions on particles are not supported yet");
+// kSph with its box replaced by a cylinder (same line numbers).
+const std::string kSphCylinder =
+    R"(name: bar
+time: {end: 1.0e-5, output_interval: 1.0e-6}
+materials:
+  steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}
+bodies:
+  bar:
+    method: sph
+    geometry: {cylinder: {base: [0, 0, 0], axis: [0, 0, 0.1], radius: 0.003}}
+    spacing: 0.001
+    material: steel
+)";
+
+TEST(CaseReaderSph, ReadsTheLatticeKey) {
+  const auto lattice = [](const std::string& value) {
+    return read_case_text(edited(kSph, "spacing: 0.001", "spacing: 0.001\n    lattice: " + value),
+                          "case.yaml")
+        .bodies[0]
+        .lattice;
+  };
+  EXPECT_EQ(lattice("nodes"), BodySpec::Lattice::Nodes);
+  EXPECT_EQ(lattice("centred"), BodySpec::Lattice::Centred);
+  EXPECT_EQ(read_case_text(kSph, "case.yaml", {"bodies.bar.lattice=nodes"}).bodies[0].lattice,
+            BodySpec::Lattice::Nodes);
+  // centred is allowed for every geometry.
+  EXPECT_EQ(
+      read_case_text(edited(kSphCylinder, "spacing: 0.001", "spacing: 0.001\n    lattice: centred"),
+                     "case.yaml")
+          .bodies[0]
+          .lattice,
+      BodySpec::Lattice::Centred);
+}
+
+TEST(CaseReaderSph, RejectsBadLattices) {
+  EXPECT_EQ(error_of(edited(kSph, "spacing: 0.001", "spacing: 0.001\n    lattice: corners")),
+            "case.yaml:10: bodies.bar.lattice: unknown lattice 'corners' (expected one of: "
+            "centred, nodes)");
+  EXPECT_EQ(error_of(edited(kSphCylinder, "spacing: 0.001", "spacing: 0.001\n    lattice: nodes")),
+            "case.yaml:10: bodies.bar.lattice: nodes is only allowed for a box geometry (use "
+            "centred for a cylinder)");
+  EXPECT_TRUE(reports(error_of(kSphCylinder, {"bodies.bar.lattice=nodes"}),
+                      "--set bodies.bar.lattice: bodies.bar.lattice: ",
+                      "nodes is only allowed for a box geometry"));
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, "element_size: 0.001", "element_size: 0.001\n    lattice: nodes")),
+      "case.yaml:10: bodies.bar.lattice: ",
+      "only allowed for method sph (a fem body takes element_size)"));
+}
+
+// Fixed and velocity conditions and pressure loads act on an SPH box's particle faces.
+TEST(CaseReaderSph, ReadsBoundaryConditionsAndLoadsOnSphBoxes) {
+  for (const std::string lattice : {"centred", "nodes"}) {
+    SCOPED_TRACE(lattice);
+    const Case c =
+        read_case_text(edited(kSph, "spacing: 0.001", "spacing: 0.001\n    lattice: " + lattice) +
+                           "boundary_conditions:\n"
+                           "  - {type: fixed, body: bar, face: zmin}\n"
+                           "  - {type: velocity, body: bar, face: xmax, velocity: [~, 0, ~]}\n"
+                           "loads:\n"
+                           "  - {type: pressure, body: bar, face: zmax, pressure: 40.0e9,\n"
+                           "     function: [[0, 0], [1e-7, 1]]}\n",
+                       "case.yaml");
+    ASSERT_EQ(c.boundary_conditions.size(), 2u);
+    EXPECT_EQ(c.boundary_conditions[0].type, BoundaryType::Fixed);
+    EXPECT_EQ(c.boundary_conditions[0].body, "bar");
+    EXPECT_EQ(c.boundary_conditions[0].face, "zmin");
+    EXPECT_EQ(c.boundary_conditions[1].type, BoundaryType::Velocity);
+    EXPECT_EQ(c.boundary_conditions[1].face, "xmax");
+    EXPECT_FALSE(c.boundary_conditions[1].velocity[0].has_value());
+    EXPECT_EQ(c.boundary_conditions[1].velocity[1], 0.0);
+    ASSERT_EQ(c.loads.size(), 1u);
+    EXPECT_EQ(c.loads[0].body, "bar");
+    EXPECT_EQ(c.loads[0].face, "zmax");
+    EXPECT_NEAR(c.loads[0].pressure, 40e9, 1e-3);
+  }
+}
+
+TEST(CaseReaderSph, RejectsSymmetryOnSphBodies) {
+  EXPECT_EQ(error_of(kSph + "boundary_conditions:\n  - {type: symmetry, body: bar, face: xmin}\n"),
+            "case.yaml:12: boundary_conditions.0.type: 'bar' is an SPH body: symmetry planes for "
+            "particles (mirror particles) are not supported yet");
+}
+
+TEST(CaseReaderSph, RejectsFacesAnSphBoxDoesNotHave) {
+  EXPECT_TRUE(reports(error_of(kSph + "boundary_conditions:\n  - {type: fixed, body: bar, "
+                                      "face: top}\n"),
+                      "case.yaml:12: boundary_conditions.0.face: ",
+                      "unknown face 'top' (expected one of: xmin, xmax, ymin, ymax, zmin, zmax)"));
   EXPECT_TRUE(
-      reports(error_of(kSph + "loads:\n  - {type: pressure, body: bar, face: zmin, pressure: 1}\n"),
-              "case.yaml:12: loads.0.body: ",
-              "'bar' is an SPH body: pressure loads on particles are not supported yet"));
+      reports(error_of(kSph + "loads:\n  - {type: pressure, body: bar, face: side, pressure: 1}\n"),
+              "case.yaml:12: loads.0.face: ", "unknown face 'side'"));
+}
+
+TEST(CaseReaderSph, RejectsBoundaryConditionsAndLoadsOnSphCylinders) {
+  const std::string what = "'bar' is an SPH body with a cylinder: particle faces exist only for "
+                           "box bodies";
+  EXPECT_EQ(
+      error_of(kSphCylinder + "boundary_conditions:\n  - {type: fixed, body: bar, face: base}\n"),
+      "case.yaml:12: boundary_conditions.0.body: " + what);
+  EXPECT_EQ(error_of(kSphCylinder +
+                     "boundary_conditions:\n  - {type: symmetry, body: bar, face: base}\n"),
+            "case.yaml:12: boundary_conditions.0.body: " + what);
+  EXPECT_EQ(
+      error_of(kSphCylinder + "loads:\n  - {type: pressure, body: bar, face: top, pressure: 1}\n"),
+      "case.yaml:12: loads.0.body: " + what);
 }
 
 TEST(CaseReaderSph, AllowsProbesOnSphBodies) {
@@ -649,6 +754,23 @@ TEST_F(CaseFiles, RejectsGeometryFileForFemBody) {
                       file.string() + ":8: bodies.bar.geometry.file: ",
                       "a geometry file is only supported for sph bodies (a fem body needs a box "
                       "or a cylinder)"));
+}
+
+TEST_F(CaseFiles, RejectsNodeLatticeAndFacesOfGeometryFiles) {
+  const std::filesystem::path file = case_file("{file: shapes/ball.geo}");
+  const std::string text = [&] {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  std::ofstream(file) << edited(text, "spacing: 0.001", "spacing: 0.001\n    lattice: nodes");
+  EXPECT_EQ(error_message([&] { read_case(file); }),
+            file.string() + ":10: bodies.bar.lattice: nodes is only allowed for a box geometry "
+                            "(use centred for a geometry file)");
+  std::ofstream(file) << text
+                      << "loads:\n  - {type: pressure, body: bar, face: top, pressure: 1}\n";
+  EXPECT_EQ(error_message([&] { read_case(file); }),
+            file.string() + ":12: loads.0.body: 'bar' is an SPH body with a geometry file: "
+                            "particle faces exist only for box bodies");
 }
 
 TEST(CaseReaderOverrides, AppliesScalarOverride) {

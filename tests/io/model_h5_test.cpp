@@ -1,6 +1,7 @@
 // Tests of solver/io/model_h5.hpp and model_vtu.hpp: exact round trips of model.h5 (with and
-// without SPH particles), clear errors (naming the file) for damaged or foreign files, files
-// from before particles existed, and model.vtu and model_particles.vtu read back with VTK.
+// without SPH particles and their faces), clear errors (naming the file) for damaged or foreign
+// files, files from before particles or particle faces existed, and model.vtu and
+// model_particles.vtu read back with VTK.
 #include "solver/io/model_h5.hpp"
 #include "solver/io/model_vtu.hpp"
 
@@ -72,7 +73,9 @@ Model grid_model(int nx, int ny, int nz) {
 }
 
 // grid_model with a third body "ball" of `count` SPH particles: irrational positions, masses,
-// densities and smoothing lengths that differ per particle.
+// densities and smoothing lengths that differ per particle; and two particle faces, "ball/zmin"
+// (every other particle, normal −z) and "ball/side" (particles 1, 4, 7, …, an oblique normal;
+// empty when count = 1), with irrational areas.
 Model particle_model(int count) {
   Model m = grid_model(3, 2, 2);
   m.body_names.push_back("ball");
@@ -84,6 +87,17 @@ Model particle_model(int count) {
     m.rho_p.push_back(7830 + std::cos(t));
     m.h_p.push_back(1.2e-3 * (1 + 1 / t));
     m.body_p.push_back(2);
+  }
+  ParticleFace& bottom = m.particle_faces["ball/zmin"];
+  bottom.normal = -Vec3::UnitZ();
+  ParticleFace& side = m.particle_faces["ball/side"];
+  side.normal = Vec3(1, std::sqrt(2.0), -0.5).normalized();
+  for (int i = 0; i < count; ++i) {
+    ParticleFace& face = i % 2 == 0 ? bottom : side;
+    if (i % 2 == 0 || i % 3 == 1) {
+      face.particles.push_back(i);
+      face.area.push_back(1e-6 * (1 + std::sqrt(i + 2.0) / 5));
+    }
   }
   return m;
 }
@@ -139,6 +153,14 @@ void expect_same(const Model& a, const Model& b) {
   EXPECT_EQ(a.rho_p, b.rho_p);
   EXPECT_EQ(a.h_p, b.h_p);
   EXPECT_EQ(a.body_p, b.body_p);
+  ASSERT_EQ(a.particle_faces.size(), b.particle_faces.size());
+  for (const auto& [name, face] : a.particle_faces) {
+    ASSERT_TRUE(b.particle_faces.contains(name)) << name;
+    const ParticleFace& other = b.particle_faces.at(name);
+    EXPECT_EQ(face.particles, other.particles) << name;
+    EXPECT_EQ(face.area, other.area) << name; // bit for bit
+    EXPECT_EQ(face.normal, other.normal) << name;
+  }
 }
 
 // ---- model.h5 -------------------------------------------------------------------------------
@@ -165,6 +187,77 @@ TEST_F(ModelFiles, RoundTripsParticlesExactly) {
     write_model_h5(m, file);
     expect_same(read_model_h5(file), m);
   }
+}
+
+// Large faces (chunked, compressed), empty faces, and names nested deeper than <body>/<face>.
+TEST_F(ModelFiles, RoundTripsParticleFacesExactly) {
+  Model m = particle_model(40000); // ball/zmin: 20000 particles
+  ASSERT_GT(m.particle_faces.at("ball/zmin").particles.size(), 16384u);
+  m.particle_faces["ball/layer/deep"] = {{7, 3}, {2.5e-7, 1e-7}, Vec3::UnitX()};
+  m.particle_faces["ball/none"] = {{}, {}, Vec3::UnitY()};
+  const fs::path file = path("faces.h5");
+  write_model_h5(m, file);
+  const Model read = read_model_h5(file);
+  EXPECT_EQ(read.particle_faces.size(), 4u);
+  expect_same(read, m);
+  // Small models too (ball/side is empty with one particle).
+  for (const int count : {1, 5}) {
+    write_model_h5(particle_model(count), file);
+    expect_same(read_model_h5(file), particle_model(count));
+  }
+}
+
+TEST_F(ModelFiles, ParticleFacesAreStoredAsDocumented) {
+  const Model m = particle_model(5);
+  write_model_h5(m, path("model.h5"));
+  const H5::H5File h5(path("model.h5").string(), H5F_ACC_RDONLY);
+  const H5::Group face = h5.openGroup("particle_faces/ball/zmin");
+  std::vector<int> index(3);
+  std::vector<double> area(3);
+  ASSERT_EQ(face.openDataSet("index").getSpace().getSimpleExtentNpoints(), 3);
+  face.openDataSet("index").read(index.data(), H5::PredType::NATIVE_INT);
+  face.openDataSet("area").read(area.data(), H5::PredType::NATIVE_DOUBLE);
+  EXPECT_EQ(index, (std::vector<int>{0, 2, 4}));
+  EXPECT_EQ(area, m.particle_faces.at("ball/zmin").area);
+  std::string units;
+  const H5::Attribute a = face.openDataSet("area").openAttribute("units");
+  a.read(a.getStrType(), units);
+  EXPECT_EQ(units, "m^2");
+  const H5::Attribute normal = face.openAttribute("normal");
+  ASSERT_EQ(normal.getSpace().getSimpleExtentNpoints(), 3);
+  Vec3 n;
+  normal.read(H5::PredType::NATIVE_DOUBLE, n.data());
+  EXPECT_EQ(n, Vec3(0, 0, -1));
+}
+
+// A file written before particle faces existed reads as a model without them.
+TEST_F(ModelFiles, FileWithoutParticleFacesReadsAsNone) {
+  const fs::path file = path("old.h5");
+  write_model_h5(particle_model(5), file);
+  H5::H5File(file.string(), H5F_ACC_RDWR).unlink("particle_faces");
+  const Model m = read_model_h5(file);
+  EXPECT_EQ(m.particle_count(), 5);
+  EXPECT_TRUE(m.particle_faces.empty());
+}
+
+TEST_F(ModelFiles, BadParticleFacesAreNotWritten) {
+  const auto expect_write_error = [&](const Model& m, const std::string& fragment) {
+    try {
+      write_model_h5(m, path("model.h5"));
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  Model m = particle_model(5);
+  m.particle_faces.at("ball/zmin").area.pop_back();
+  expect_write_error(m, "particle face 'ball/zmin' has 2 areas for 3 particles");
+  m = particle_model(5);
+  m.particle_faces.at("ball/side").particles.back() = 5;
+  expect_write_error(m, "particle face 'ball/side' holds index 5 outside [0, 5)");
+  m = particle_model(5);
+  m.particle_faces["/ball"] = {};
+  expect_write_error(m, "set name '/ball' cannot be stored");
 }
 
 TEST_F(ModelFiles, ParticleDatasetsCarryUnits) {
@@ -196,6 +289,7 @@ TEST_F(ModelFiles, EmptySpacingIsWrittenAsZeros) {
 TEST_F(ModelFiles, FileWithoutParticlesReadsAsNoParticles) {
   const fs::path file = damaged("old.h5", [](H5::H5File& h5) {
     h5.unlink("particles");
+    h5.unlink("particle_faces");
     h5.unlink("bodies/spacing");
   });
   const Model m = read_model_h5(file);
@@ -420,6 +514,77 @@ TEST_F(DamagedParticles, WrongShapesAreErrors) {
                     "bodies/spacing holds -1 at index 1 (expected >= 0)");
 }
 
+TEST_F(DamagedParticles, OutOfRangeParticleFaceIndexIsAnError) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      set_value(h5, "particle_faces/ball/zmin/index", 2, 5);
+                    }),
+                    "particle_faces/ball/zmin/index holds index 5 outside [0, 5)");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      set_value(h5, "particle_faces/ball/side/index", 0, -1);
+                    }),
+                    "particle_faces/ball/side/index holds index -1");
+}
+
+TEST_F(DamagedParticles, NonPositiveParticleFaceAreaIsAnError) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      set_value(h5, "particle_faces/ball/zmin/area", 1, 0.0);
+                    }),
+                    "particle_faces/ball/zmin/area holds 0 at index 1 (expected > 0)");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      set_value(h5, "particle_faces/ball/side/area", 0,
+                                std::numeric_limits<double>::infinity());
+                    }),
+                    "particle_faces/ball/side/area holds inf at index 0");
+}
+
+TEST_F(DamagedParticles, BadParticleFaceNormalIsAnError) {
+  const auto set_normal = [](H5::H5File& h5, const Vec3& n) {
+    const H5::Group face = h5.openGroup("particle_faces/ball/zmin");
+    face.openAttribute("normal").write(H5::PredType::NATIVE_DOUBLE, n.data());
+  };
+  expect_read_error(
+      damaged_particles([&](H5::H5File& h5) { set_normal(h5, Vec3(0, 0, -1.001)); }),
+      "attribute 'normal' of particle_faces/ball/zmin is not a unit vector: (0, 0, -1.001)");
+  expect_read_error(damaged_particles([&](H5::H5File& h5) {
+                      set_normal(h5, Vec3(0, std::numeric_limits<double>::quiet_NaN(), 1));
+                    }),
+                    "is not a unit vector");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      h5.openGroup("particle_faces/ball/zmin").removeAttr("normal");
+                    }),
+                    "missing attribute 'normal' of particle_faces/ball/zmin");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      const H5::Group face = h5.openGroup("particle_faces/ball/zmin");
+                      face.removeAttr("normal");
+                      const hsize_t two = 2;
+                      const double n[2] = {0, 1};
+                      face.createAttribute("normal", H5::PredType::IEEE_F64LE,
+                                           H5::DataSpace(1, &two))
+                          .write(H5::PredType::NATIVE_DOUBLE, n);
+                    }),
+                    "attribute 'normal' of particle_faces/ball/zmin is not 3 floating-point "
+                    "numbers");
+}
+
+TEST_F(DamagedParticles, MalformedParticleFacesAreErrors) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "particle_faces/ball/zmin/area", {2}, {1e-6, 1e-6});
+                    }),
+                    "particle_faces/ball/zmin/area has 2 entries for 3 particles");
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { h5.unlink("particle_faces/ball/side/area"); }),
+      "missing dataset 'particle_faces/ball/side/area'");
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) {
+        replace(h5, "particle_faces/ball/zmin/index", {3}, {0, 2, 4});
+      }),
+      "dataset 'particle_faces/ball/zmin/index' has the wrong type (expected integer)");
+  // An empty group is a face without its datasets.
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { h5.createGroup("particle_faces/ball/xmax"); }),
+      "missing dataset 'particle_faces/ball/xmax/index'");
+}
+
 TEST_F(DamagedParticles, MissingParticleDatasetIsNamed) {
   expect_read_error(damaged_particles([](H5::H5File& h5) { h5.unlink("particles/h"); }),
                     "missing dataset 'particles/h'");
@@ -501,6 +666,17 @@ TEST_F(ModelFiles, ParticleVtuReadsBackWithVertexCellsAndArrays) {
   ASSERT_NE(body, nullptr);
   for (Index i = 0; i < m.particle_count(); ++i)
     EXPECT_EQ(body->GetTuple1(i), m.body_p[i]);
+  // One 0/1 array per particle face.
+  ASSERT_EQ(m.particle_faces.size(), 2u);
+  for (const auto& [name, face] : m.particle_faces) {
+    vtkDataArray* flag = grid->GetPointData()->GetArray(("set:" + name).c_str());
+    ASSERT_NE(flag, nullptr) << name;
+    EXPECT_EQ(flag->GetDataType(), VTK_INT) << name;
+    for (Index i = 0; i < m.particle_count(); ++i)
+      EXPECT_EQ(flag->GetTuple1(i),
+                std::count(face.particles.begin(), face.particles.end(), i) > 0 ? 1 : 0)
+          << name << " particle " << i;
+  }
 }
 
 TEST_F(ModelFiles, NoParticlesMeansNoParticleVtu) {
@@ -525,6 +701,16 @@ TEST_F(ModelFiles, ParticleVtuErrorsNameTheFile) {
   }
   const fs::path unwritable = path("no_such_dir") / "model_particles.vtu";
   EXPECT_THROW(write_particles_vtu(particle_model(3), unwritable), Error);
+  m = particle_model(3);
+  m.particle_faces.at("ball/zmin").particles.push_back(3);
+  try {
+    write_particles_vtu(m, file);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("particle face 'ball/zmin' holds index 3 outside [0, 3)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_F(ModelFiles, VtuUnwritablePathIsAnError) {

@@ -1,7 +1,9 @@
 // Tests of the SPH lattices (mesher/lattice.hpp through mesh_case): box lattices checked exactly
-// (counts, positions, masses, h), cylinders and geometry files against independent inside tests
-// and volume bounds, the ray-parity classifier on surfaces whose edges and vertices lie exactly
-// on lattice columns, and the errors naming the body.
+// (counts, positions, masses, h), the node lattice also against the hex mesh of the same box
+// (node positions, lumped masses), box particle faces (layers, tributary areas, normals),
+// cylinders and geometry files against independent inside tests and volume bounds, the
+// ray-parity classifier on surfaces whose edges and vertices lie exactly on lattice columns, and
+// the errors naming the body.
 #include "mesher/lattice.hpp"
 #include "mesher/mesher.hpp"
 
@@ -14,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <numeric>
 #include <random>
@@ -164,6 +167,248 @@ TEST(BoxLattice, NonIntegerLengthsAdjustTheSpacingPerDirection) {
 TEST(BoxLattice, HundredThousandParticles) {
   const Model m = mesh_case(case_of({sph_box("big", {0, 0, 0}, {0.05, 0.05, 0.04}, 0.001)}));
   EXPECT_EQ(m.particle_count(), 100000);
+}
+
+// ---- node lattice ---------------------------------------------------------------------------
+
+BodySpec sph_node_box(const std::string& name, const Vec3& min, const Vec3& max, double spacing) {
+  BodySpec b = sph_box(name, min, max, spacing);
+  b.lattice = BodySpec::Lattice::Nodes;
+  return b;
+}
+
+// How many of a particle's coordinates lie on the box's faces (0 inside, 1 on a face, 2 on an
+// edge, 3 at a corner).
+int on_faces(const Vec3& x, const Vec3& min, const Vec3& max) {
+  int count = 0;
+  for (int a = 0; a < 3; ++a)
+    count += x[a] == min[a] || x[a] == max[a];
+  return count;
+}
+
+// The paper's bar: 5 × 5 × 100 mm at Δp = 1 mm, 6 × 6 × 101 particles on the grid nodes.
+TEST(NodeLattice, BarOfFiveByFiveByHundredMillimetres) {
+  const Vec3 min(0, 0, 0), max(0.005, 0.005, 0.1);
+  const double dp = 0.001;
+  BodySpec bar = sph_node_box("bar", min, max, dp);
+  bar.h_factor = 1.5;
+  const Model m = mesh_case(case_of({bar}));
+  ASSERT_EQ(m.particle_count(), 6 * 6 * 101);
+  EXPECT_EQ(m.spacing_b, std::vector<double>{dp});
+  EXPECT_EQ(m.node_count(), 0);
+  const double volume = 2.5e-6;
+  EXPECT_NEAR(total_mass(m), rho0 * volume, 1e-12 * rho0 * volume);
+  // Lumped masses: ρ0Δp³ inside, halved once per coordinate on a face (corners ρ0Δp³/8).
+  const double full = rho0 * dp * dp * dp;
+  for (Index i = 0; i < m.particle_count(); ++i) {
+    EXPECT_EQ(m.body_p[i], 0);
+    EXPECT_EQ(m.rho_p[i], rho0);
+    EXPECT_NEAR(m.h_p[i], 1.5 * dp, 1e-15 * dp);
+    const double expected = full / (1 << on_faces(m.x_p[i], min, max));
+    EXPECT_NEAR(m.m_p[i], expected, 1e-12 * expected) << m.x_p[i].transpose();
+  }
+  EXPECT_NEAR(m.m_p.front(), full / 8, 1e-12 * full); // the corner at min
+  EXPECT_NEAR(m.m_p.back(), full / 8, 1e-12 * full);  // the corner at max
+  // Positions: exactly the grid nodes min + kΔp, the ends exactly min and max, each node once.
+  const std::array<int, 3> n{5, 5, 100};
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double> x = levels(m, a);
+    ASSERT_EQ(x.size(), static_cast<std::size_t>(n[a] + 1));
+    for (int k = 0; k <= n[a]; ++k)
+      EXPECT_NEAR(x[k], min[a] + k * dp, 1e-15);
+    EXPECT_EQ(x.front(), min[a]);
+    EXPECT_EQ(x.back(), max[a]);
+  }
+  std::set<std::array<long, 3>> nodes;
+  for (const Vec3& x : m.x_p)
+    nodes.insert({std::lround(x.x() / dp), std::lround(x.y() / dp), std::lround(x.z() / dp)});
+  EXPECT_EQ(nodes.size(), m.x_p.size());
+}
+
+// Independent check against the FE mesher: the particles of a node lattice sit on the nodes of
+// the hex mesh of the same box (element_size Δp), and their masses are that mesh's row-sum
+// lumped nodal masses ρ0 Σ V_e/8 (each hex a rectangular box: V_e from its nodes' extent).
+TEST(NodeLattice, MatchesTheNodesAndLumpedMassesOfTheHexMesh) {
+  const Vec3 min(0, 0, 0), max(0.005, 0.005, 0.1);
+  const double dp = 0.001;
+  BodySpec fe;
+  fe.name = "fe";
+  fe.geometry.box = {min, max};
+  fe.element_size = dp;
+  fe.material = "steel";
+  const Model mesh = mesh_case(case_of({fe}));
+  const Model sph = mesh_case(case_of({sph_node_box("bar", min, max, dp)}));
+  ASSERT_EQ(sph.particle_count(), mesh.node_count());
+  std::vector<double> lumped(mesh.x_n.size(), 0.0);
+  for (const Hex& hex : mesh.hex_e) {
+    Vec3 low = mesh.x_n[hex[0]], high = low;
+    for (const Index i : hex) {
+      low = low.cwiseMin(mesh.x_n[i]);
+      high = high.cwiseMax(mesh.x_n[i]);
+    }
+    for (const Index i : hex)
+      lumped[i] += rho0 * (high - low).prod() / 8;
+  }
+  // Nodes by position, rounded to a 1 µm grid (far below Δp, far above rounding).
+  const auto key = [](const Vec3& x) {
+    return std::array<long, 3>{std::lround(x.x() * 1e6), std::lround(x.y() * 1e6),
+                               std::lround(x.z() * 1e6)};
+  };
+  std::map<std::array<long, 3>, Index> node_at;
+  for (Index i = 0; i < mesh.node_count(); ++i)
+    node_at[key(mesh.x_n[i])] = i;
+  ASSERT_EQ(node_at.size(), mesh.x_n.size());
+  for (Index p = 0; p < sph.particle_count(); ++p) {
+    const auto node = node_at.find(key(sph.x_p[p]));
+    ASSERT_NE(node, node_at.end()) << "no FE node at " << sph.x_p[p].transpose();
+    EXPECT_LT((mesh.x_n[node->second] - sph.x_p[p]).norm(), 1e-12) << sph.x_p[p].transpose();
+    EXPECT_NEAR(sph.m_p[p], lumped[node->second], 1e-9 * lumped[node->second]);
+  }
+}
+
+// L/Δp not an integer: n_i = round(L_i/Δp) cells of L_i/n_i, n_i + 1 particles per direction.
+TEST(NodeLattice, NonIntegerLengthsAdjustTheSpacingPerDirection) {
+  const Vec3 min(0.1, -0.2, 0.3), max(0.147, -0.176, 0.312);
+  const double dp = 0.01;
+  const Model m = mesh_case(case_of({sph_node_box("odd", min, max, dp)}));
+  const std::array<int, 3> n{5, 2, 1}; // round(4.7), round(2.4), round(1.2)
+  ASSERT_EQ(m.particle_count(), 6 * 3 * 2);
+  const Vec3 size = max - min;
+  EXPECT_NEAR(total_mass(m), rho0 * size.prod(), 1e-12 * rho0 * size.prod());
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double> x = levels(m, a);
+    ASSERT_EQ(x.size(), static_cast<std::size_t>(n[a] + 1));
+    for (int k = 0; k <= n[a]; ++k)
+      EXPECT_NEAR(x[k], min[a] + k * size[a] / n[a], 1e-15);
+    EXPECT_EQ(x.front(), min[a]);
+    EXPECT_EQ(x.back(), max[a]);
+  }
+  const double cell = (size.array() / Eigen::Array3d(5, 2, 1)).prod();
+  for (Index i = 0; i < m.particle_count(); ++i) {
+    const double expected = rho0 * cell / (1 << on_faces(m.x_p[i], min, max));
+    EXPECT_NEAR(m.m_p[i], expected, 1e-12 * expected);
+  }
+}
+
+// ---- particle faces -------------------------------------------------------------------------
+
+const std::array<std::string, 6> face_names{"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+
+// Checks the six particle faces of box body `body` (box [min, max], particles of body id `id`):
+// each face is the layer of the body's particles nearest to it (every particle at the extreme
+// coordinate, none else), normals are outward unit vectors, areas positive and summing to the
+// face's area to 1e-12. Returns the faces' particle counts.
+std::array<std::size_t, 6> expect_box_faces(const Model& m, const std::string& body, int id,
+                                            const Vec3& min, const Vec3& max) {
+  std::array<std::size_t, 6> counts{};
+  for (int f = 0; f < 6; ++f) {
+    const int axis = f / 2;
+    const bool high = f % 2 == 1;
+    const std::string name = body + "/" + face_names[f];
+    SCOPED_TRACE(name);
+    const auto it = m.particle_faces.find(name);
+    if (it == m.particle_faces.end()) {
+      ADD_FAILURE() << "no particle face " << name;
+      continue;
+    }
+    const ParticleFace& face = it->second;
+    Vec3 normal = Vec3::Zero();
+    normal[axis] = high ? 1 : -1;
+    EXPECT_EQ(face.normal, normal);
+    EXPECT_EQ(face.area.size(), face.particles.size());
+    // The extreme coordinate of the body's particles along the axis, and who has it.
+    double extreme = high ? -INFINITY : INFINITY;
+    for (Index i = 0; i < m.particle_count(); ++i)
+      if (m.body_p[i] == id)
+        extreme = high ? std::max(extreme, m.x_p[i][axis]) : std::min(extreme, m.x_p[i][axis]);
+    std::vector<Index> layer;
+    for (Index i = 0; i < m.particle_count(); ++i)
+      if (m.body_p[i] == id && m.x_p[i][axis] == extreme)
+        layer.push_back(i);
+    EXPECT_EQ(face.particles, layer); // in particle order
+    double sum = 0;
+    for (const double a : face.area) {
+      EXPECT_GT(a, 0);
+      sum += a;
+    }
+    const double area = (max - min).prod() / (max - min)[axis];
+    EXPECT_NEAR(sum, area, 1e-12 * area);
+    counts[f] = face.particles.size();
+  }
+  return counts;
+}
+
+TEST(ParticleFaces, NodeLatticeFacesAreTheParticlesOnTheFaces) {
+  const Vec3 min(0, 0, 0), max(0.005, 0.005, 0.1);
+  const double dp = 0.001;
+  const Model m = mesh_case(case_of({sph_node_box("bar", min, max, dp)}));
+  EXPECT_EQ(m.particle_faces.size(), 6u);
+  EXPECT_EQ(expect_box_faces(m, "bar", 0, min, max),
+            (std::array<std::size_t, 6>{606, 606, 606, 606, 36, 36}));
+  // On the face, with the lumped face areas: Δp² inside, halved on each edge of the face.
+  const ParticleFace& top = m.particle_faces.at("bar/zmax");
+  for (std::size_t n = 0; n < top.particles.size(); ++n) {
+    const Vec3& x = m.x_p[top.particles[n]];
+    EXPECT_EQ(x.z(), max.z());
+    const double expected = dp * dp / (1 << (on_faces(x, min, max) - 1));
+    EXPECT_NEAR(top.area[n], expected, 1e-12 * expected) << x.transpose();
+  }
+  EXPECT_NEAR(top.area.front(), dp * dp / 4, 1e-12 * dp * dp); // a corner
+  for (const Index i : m.particle_faces.at("bar/xmin").particles)
+    EXPECT_EQ(m.x_p[i].x(), min.x());
+}
+
+TEST(ParticleFaces, CentredLatticeFacesAreTheFirstLayer) {
+  const Vec3 min(0, 0, 0), max(0.005, 0.005, 0.1);
+  const double dp = 0.001;
+  const Model m = mesh_case(case_of({sph_box("bar", min, max, dp)}));
+  EXPECT_EQ(m.particle_faces.size(), 6u);
+  EXPECT_EQ(expect_box_faces(m, "bar", 0, min, max),
+            (std::array<std::size_t, 6>{500, 500, 500, 500, 25, 25}));
+  const ParticleFace& top = m.particle_faces.at("bar/zmax");
+  for (std::size_t n = 0; n < top.particles.size(); ++n) {
+    EXPECT_NEAR(m.x_p[top.particles[n]].z(), max.z() - 0.5 * dp, 1e-15);
+    EXPECT_NEAR(top.area[n], dp * dp, 1e-12 * dp * dp);
+  }
+  for (const Index i : m.particle_faces.at("bar/ymin").particles)
+    EXPECT_NEAR(m.x_p[i].y(), min.y() + 0.5 * dp, 1e-15);
+}
+
+// Adjusted spacings: the areas still sum to the face areas; with one cell across, both faces of
+// that direction are the same layer.
+TEST(ParticleFaces, NonIntegerLengthsKeepTheFaceAreas) {
+  const Vec3 min(0.1, -0.2, 0.3), max(0.147, -0.176, 0.312);
+  const double dp = 0.01;
+  for (const BodySpec& body : {sph_box("odd", min, max, dp), sph_node_box("odd", min, max, dp)}) {
+    const bool nodes = body.lattice == BodySpec::Lattice::Nodes;
+    SCOPED_TRACE(nodes ? "nodes" : "centred");
+    const Model m = mesh_case(case_of({body}));
+    const std::array<std::size_t, 6> counts = expect_box_faces(m, "odd", 0, min, max);
+    EXPECT_EQ(counts, nodes ? (std::array<std::size_t, 6>{6, 6, 12, 12, 18, 18})
+                            : (std::array<std::size_t, 6>{2, 2, 5, 5, 10, 10}));
+    if (!nodes) {
+      EXPECT_EQ(m.particle_faces.at("odd/zmin").particles,
+                m.particle_faces.at("odd/zmax").particles);
+    }
+  }
+}
+
+// Faces index the whole model's particle arrays: a second body's faces point past the first
+// body's particles. Cylinders and geometry files have no particle faces.
+TEST(ParticleFaces, OnlyBoxesHaveFacesIndexedIntoTheWholeModel) {
+  const CylinderGeometry rod{{0, 0, 0.02}, {0, 0, 0.01}, 0.003};
+  const Vec3 min(0, 0, 0), max(0.004, 0.003, 0.002);
+  const Model m =
+      mesh_case(case_of({sph_cylinder("rod", rod, 0.001), sph_node_box("block", min, max, 0.001),
+                         sph_file("ball", data_dir / "sphere.geo", 0.002)}));
+  EXPECT_EQ(m.particle_faces.size(), 6u);
+  for (const auto& [name, face] : m.particle_faces)
+    EXPECT_TRUE(name.starts_with("block/")) << name;
+  EXPECT_EQ(expect_box_faces(m, "block", 1, min, max),
+            (std::array<std::size_t, 6>{12, 12, 15, 15, 20, 20}));
+  for (const auto& [name, face] : m.particle_faces)
+    for (const Index i : face.particles)
+      EXPECT_EQ(m.body_p.at(static_cast<std::size_t>(i)), 1) << name;
 }
 
 // ---- cylinder -------------------------------------------------------------------------------
@@ -411,6 +656,15 @@ TEST_F(TempFiles, FileOptionsDoNotLeakToLaterBodies) {
       case_of({sph_file("half", scaled, 0.001), sph_file("whole", dir_ / "cube.brep", 0.001)}));
   EXPECT_EQ(std::count(m.body_p.begin(), m.body_p.end(), 0), 125);
   EXPECT_EQ(std::count(m.body_p.begin(), m.body_p.end(), 1), 1000);
+}
+
+TEST(LatticeErrors, NodeLatticeNeedsABox) {
+  BodySpec rod = sph_cylinder("rod", {{0, 0, 0}, {0, 0, 0.01}, 0.003}, 0.001);
+  rod.lattice = BodySpec::Lattice::Nodes;
+  expect_error(case_of({rod}), "rod", "lattice nodes is only possible for a box geometry");
+  BodySpec ball = sph_file("ball", data_dir / "sphere.geo", 0.002);
+  ball.lattice = BodySpec::Lattice::Nodes;
+  expect_error(case_of({ball}), "ball", "lattice nodes is only possible for a box geometry");
 }
 
 TEST(LatticeErrors, MissingMaterialIsNamed) {

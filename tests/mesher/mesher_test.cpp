@@ -378,6 +378,10 @@ TEST(MultiBody, FemAndSphBodiesTogether) {
   EXPECT_NEAR(mass, 2700 * 1e-6, 1e-12 * 2700 * 1e-6);
   EXPECT_EQ(m.face_sets.size(), 6u + 3u); // none for the SPH body
   EXPECT_FALSE(m.face_sets.contains("projectile/zmin"));
+  EXPECT_FALSE(m.node_sets.contains("projectile/zmin"));
+  // The SPH box has particle faces instead (lattice_test.cpp checks them); the FE bodies none.
+  EXPECT_EQ(m.particle_faces.size(), 6u);
+  EXPECT_EQ(m.particle_faces.at("projectile/zmin").particles.size(), 100u);
 }
 
 TEST(MultiBody, SphOnlyCaseNeedsNoMesh) {
@@ -469,6 +473,12 @@ TEST(MeshSignature, ChangesWithSphInputs) {
   ball.geometry.file = shape;
   const Case base = case_of({sph_box_body("block", {0, 0, 0}, {0.1, 0.1, 0.01}, 0.002), ball});
   const std::string s = mesh_signature(base);
+  // The lattice is named also when it is the default, so SPH models written before particle
+  // faces existed are stale.
+  EXPECT_NE(s.find("body block method=sph box min=0,0,0 max=0.1,0.1,0.01 spacing=0.002 "
+                   "h_factor=1.2 lattice=centred density=7830\n"),
+            std::string::npos)
+      << s;
   EXPECT_EQ(mesh_signature(base), s);
   const auto changed = [&](auto edit) {
     Case c = base;
@@ -486,6 +496,7 @@ TEST(MeshSignature, ChangesWithSphInputs) {
     c.bodies[0].spacing = std::nextafter(c.bodies[0].spacing, 1.0); // full precision
   }));
   EXPECT_TRUE(changed([](Case& c) { c.bodies[0].h_factor = 1.3; }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].lattice = BodySpec::Lattice::Nodes; }));
   EXPECT_TRUE(changed([](Case& c) { c.bodies[0].method = Method::Fem; }));
   EXPECT_TRUE(changed([](Case& c) { c.bodies[0].geometry.box.max.z() = 0.02; }));
   // Particle masses and densities come from the material's density.

@@ -27,6 +27,8 @@
 using namespace sphfem;
 
 // Every allocation of the test program is counted, to check that rebuilding does not allocate.
+// The replacements are not inlined: GCC would otherwise pair malloc() with operator delete and
+// warn (-Wmismatched-new-delete).
 std::atomic<long> allocations{0};
 
 [[gnu::noinline]] void* operator new(std::size_t size) {
@@ -42,7 +44,6 @@ std::atomic<long> allocations{0};
     return p;
   throw std::bad_alloc();
 }
-// None inlined: GCC would otherwise see malloc() paired with operator delete and warn.
 [[gnu::noinline]] void operator delete(void* p) noexcept {
   std::free(p);
 }
@@ -79,6 +80,16 @@ Cloud random_cloud(Index n, const Vec3& size, unsigned seed) {
   return c;
 }
 
+// The cloud renumbered: particle k of the result is particle new_to_old[k] of c.
+Cloud permuted(const Cloud& c, const std::vector<Index>& new_to_old) {
+  Cloud out;
+  for (Index old : new_to_old) {
+    out.x.push_back(c.x[old]);
+    out.h.push_back(c.h[old]);
+  }
+  return out;
+}
+
 // The listing predicate written out independently: r < h_i + h_j + skin, compared squared.
 bool within(const Vec3& xi, const Vec3& xj, double hi, double hj, double skin) {
   const double dx = xj.x() - xi.x(), dy = xj.y() - xi.y(), dz = xj.z() - xi.z();
@@ -113,13 +124,27 @@ Rows brute_force(const Cloud& c, double skin) {
   return ::testing::AssertionSuccess();
 }
 
-void set_threads(int n) {
+// Sets the OpenMP thread count while in scope.
+class ThreadCount {
+public:
+  explicit ThreadCount([[maybe_unused]] int n) {
 #ifdef _OPENMP
-  omp_set_num_threads(n);
-#else
-  (void)n;
+    omp_set_num_threads(n);
 #endif
-}
+  }
+  ~ThreadCount() {
+#ifdef _OPENMP
+    omp_set_num_threads(saved_);
+#endif
+  }
+  ThreadCount(const ThreadCount&) = delete;
+  ThreadCount& operator=(const ThreadCount&) = delete;
+
+private:
+#ifdef _OPENMP
+  int saved_ = omp_get_max_threads();
+#endif
+};
 
 // --- Equality with the brute force --------------------------------------------------------
 
@@ -163,33 +188,37 @@ INSTANTIATE_TEST_SUITE_P(Clouds, BruteForce,
                          brute_force_name);
 
 // Above parallel_min_items the rows are found on several threads: still the brute force, and
-// bit-identical lists for 1 and 2 threads.
+// bit-identical lists for 1 and 2 threads, for a random numbering (rows sorted by the
+// transposition) and for the build's cell order (rows sorted one by one).
 TEST(NeighbourSearch, ParallelBuildEqualsBruteForceAndIsThreadCountIndependent) {
   const Cloud c = random_cloud(9000, {1.0, 0.5, 0.3}, 99u);
   const double skin = 0.3 * c.h[0];
   NeighbourSearch one, two;
-  set_threads(1);
   one.build(c.x, c.h, skin);
-  set_threads(2);
-  two.build(c.x, c.h, skin);
-  EXPECT_TRUE(one.list().offsets == two.list().offsets);
-  EXPECT_TRUE(one.list().neighbours == two.list().neighbours);
-  EXPECT_TRUE(lists_equal(two.list(), brute_force(c, skin)));
+  const Cloud by_cell = permuted(c, one.build_order());
+  for (const Cloud* cloud : {&c, &by_cell}) {
+    {
+      const ThreadCount serial(1);
+      one.build(cloud->x, cloud->h, skin);
+    }
+    {
+      const ThreadCount parallel(2);
+      two.build(cloud->x, cloud->h, skin);
+    }
+    EXPECT_TRUE(one.list().offsets == two.list().offsets);
+    EXPECT_TRUE(one.list().neighbours == two.list().neighbours);
+    EXPECT_TRUE(lists_equal(two.list(), brute_force(*cloud, skin)));
+  }
 }
 
-// Rebuilding for a stable particle count allocates nothing (counted by operator new below),
-// whichever way the rows get sorted.
+// Rebuilding for a stable particle count allocates nothing (counted by the operator new
+// above), whichever way the rows get sorted.
 TEST(NeighbourSearch, RebuildDoesNotAllocate) {
-  Cloud c = random_cloud(6000, {1.0, 1.0, 1.0}, 5u);
+  const Cloud c = random_cloud(6000, {1.0, 1.0, 1.0}, 5u);
   Cloud reflected = c; // same pairs, other cell order
   for (Vec3& p : reflected.x)
     p = Vec3(1, 1, 1) - p;
-  std::vector<Index> order = NeighbourSearch::cell_order(c.x, 0.1);
-  Cloud by_cell;
-  for (Index old : order) {
-    by_cell.x.push_back(c.x[old]);
-    by_cell.h.push_back(c.h[old]);
-  }
+  const Cloud by_cell = permuted(c, NeighbourSearch::cell_order(c.x, 0.1));
   for (const Cloud* cloud : {&c, &by_cell}) {
     NeighbourSearch search;
     for (int warm_up = 0; warm_up < 3; ++warm_up) {
@@ -405,13 +434,10 @@ TEST(NeighbourSearch, ReorderedParticlesGiveRelabelledLists) {
   NeighbourSearch search;
   search.build(c.x, c.h, 0.0);
   const std::vector<Index> new_to_old = NeighbourSearch::cell_order(c.x, search.cutoff());
-  Cloud sorted;
+  const Cloud sorted = permuted(c, new_to_old);
   std::vector<Index> old_to_new(c.x.size());
-  for (Index k = 0; k < static_cast<Index>(new_to_old.size()); ++k) {
-    sorted.x.push_back(c.x[new_to_old[k]]);
-    sorted.h.push_back(c.h[new_to_old[k]]);
+  for (Index k = 0; k < static_cast<Index>(new_to_old.size()); ++k)
     old_to_new[new_to_old[k]] = k;
-  }
   NeighbourSearch resorted;
   resorted.build(sorted.x, sorted.h, 0.0);
   for (Index i = 0; i < 2000; ++i) {
@@ -431,11 +457,7 @@ TEST(NeighbourSearch, NumberingCloseToCellOrder) {
   const double skin = 0.2 * c.h[0];
   NeighbourSearch search;
   search.build(c.x, c.h, skin);
-  Cloud renumbered;
-  for (Index old : search.build_order()) {
-    renumbered.x.push_back(c.x[old]);
-    renumbered.h.push_back(c.h[old]);
-  }
+  Cloud renumbered = permuted(c, search.build_order());
   search.build(renumbered.x, renumbered.h, skin);
   EXPECT_TRUE(lists_equal(search.list(), brute_force(renumbered, skin)));
   std::vector<Index> identity(3000);

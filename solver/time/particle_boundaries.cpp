@@ -1,0 +1,74 @@
+#include "solver/time/particle_boundaries.hpp"
+
+#include "solver/core/error.hpp"
+
+namespace sphfem {
+
+namespace {
+
+const ParticleFace& face(const Model& model, const std::string& body, const std::string& name) {
+  const auto it = model.particle_faces.find(body + "/" + name);
+  SPHFEM_CHECK(it != model.particle_faces.end(), "model has no particle face ", body, "/", name,
+               " (re-mesh: the model does not match the case)");
+  return it->second;
+}
+
+bool on_particles(const Case& c, const std::string& body) {
+  return c.bodies[c.body_index(body)].method == Method::Sph;
+}
+
+} // namespace
+
+ParticleBoundaries::ParticleBoundaries(const Case& c, const Model& model) {
+  for (const auto& load : c.loads)
+    if (on_particles(c, load.body)) {
+      const ParticleFace& f = face(model, load.body, load.face);
+      loads_.push_back({f.particles, f.area, f.normal, load.pressure, load.function});
+    }
+  for (const auto& bc : c.boundary_conditions)
+    if (on_particles(c, bc.body)) {
+      SPHFEM_CHECK(bc.type != BoundaryType::Symmetry, "boundary_conditions: symmetry on ",
+                   bc.body, " (particles) is not supported yet");
+      const auto& ids = face(model, bc.body, bc.face).particles;
+      if (bc.type == BoundaryType::Fixed)
+        constraints_.push_back({ids, {0.0, 0.0, 0.0}, TimeFunction()});
+      else
+        constraints_.push_back({ids, bc.velocity, bc.function});
+    }
+}
+
+ReactionTotals ParticleBoundaries::apply(double t, double t_half, double dt_v,
+                                         ParticleSystem& system) const {
+  Particles& p = system.particles();
+  ReactionTotals totals;
+  for (const auto& load : loads_) {
+    const double pressure = load.pressure * load.function(t);
+    for (std::size_t k = 0; k < load.ids.size(); ++k) {
+      const Index i = system.index_of(load.ids[k]);
+      const Vec3 impulse = (-dt_v * pressure * load.area[k]) * load.normal;
+      const Vec3 v_old = p.v_p[i] - (dt_v / p.m_p[i]) * p.f_p[i]; // v^{n−½}
+      p.v_p[i] += impulse / p.m_p[i];
+      totals.impulse += impulse;
+      totals.work += impulse.dot(0.5 * (v_old + p.v_p[i]));
+    }
+  }
+  for (const auto& c : constraints_) {
+    const double scale = c.function(t_half);
+    for (Index id : c.ids) {
+      const Index i = system.index_of(id);
+      const Vec3 v_free = p.v_p[i];
+      for (int d = 0; d < 3; ++d)
+        if (c.velocity[d]) {
+          p.v_p[i][d] = *c.velocity[d] * scale;
+          p.xsph_p[i][d] = 0; // a constrained particle moves with its prescribed velocity
+        }
+      const Vec3 impulse = p.m_p[i] * (p.v_p[i] - v_free);
+      const Vec3 v_old = v_free - (dt_v / p.m_p[i]) * p.f_p[i];
+      totals.impulse += impulse;
+      totals.work += impulse.dot(0.5 * (v_old + p.v_p[i]));
+    }
+  }
+  return totals;
+}
+
+} // namespace sphfem
