@@ -3,16 +3,14 @@
 // threads (or the thread counts given as arguments); best of three repetitions each, since
 // a shared virtual machine's timings scatter by ±20%. Prints JSON.
 //   bench_fe_throughput [steps] [threads...]
+#include "bench/stepping.hpp"
 #include "mesher/mesher.hpp"
 #include "solver/io/case_reader.hpp"
 #include "solver/time/simulation.hpp"
 
 #include <nlohmann/json.hpp>
-#include <omp.h>
 
-#include <chrono>
 #include <iostream>
-#include <limits>
 
 using namespace sphfem;
 
@@ -36,33 +34,17 @@ boundary_conditions:
 } // namespace
 
 int main(int argc, char** argv) {
-  const int steps = argc > 1 ? std::stoi(argv[1]) : 200;
-  std::vector<int> threads;
-  for (int i = 2; i < argc; ++i)
-    threads.push_back(std::stoi(argv[i]));
-  if (threads.empty())
-    threads = {1, 2};
-
+  const bench::Options o = bench::parse(argc, argv, 200);
   const Case c = read_case_text(block_case, "fe_throughput.yaml");
   const Model model = mesh_case(c);
   nlohmann::json out{{"benchmark", "fe_hex8_step"},
                      {"elements", model.element_count()},
                      {"nodes", model.node_count()},
-                     {"steps", steps}};
+                     {"steps", o.steps}};
   double base = 0;
-  for (int t : threads) {
-    omp_set_num_threads(t);
-    double wall = std::numeric_limits<double>::infinity();
-    for (int repetition = 0; repetition < 3; ++repetition) {
-      Simulation sim(c, model);
-      sim.step(sim.stable_dt()); // warm-up
-      const auto start = std::chrono::steady_clock::now();
-      for (int s = 0; s < steps; ++s)
-        sim.step(sim.stable_dt());
-      wall = std::min(
-          wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
-    const double rate = double(model.element_count()) * steps / wall;
+  for (int t : o.threads) {
+    const double wall = bench::best_wall(c, model, o.steps, t, [](const Simulation&) {});
+    const double rate = double(model.element_count()) * o.steps / wall;
     if (base == 0)
       base = rate;
     out["results"].push_back({{"threads", t},

@@ -5,17 +5,15 @@
 // skin (0.1 × 2h, lists kept until a particle may have been missed) and with no skin (lists
 // rebuilt every step); best of three. Prints JSON.
 //   bench_sph_throughput [steps=50] [threads...=1 2]
+#include "bench/stepping.hpp"
 #include "mesher/mesher.hpp"
 #include "solver/io/case_reader.hpp"
 #include "solver/time/simulation.hpp"
 
 #include <nlohmann/json.hpp>
-#include <omp.h>
 
 #include <array>
-#include <chrono>
 #include <iostream>
-#include <limits>
 
 using namespace sphfem;
 
@@ -38,47 +36,32 @@ bodies:
 } // namespace
 
 int main(int argc, char** argv) {
-  const int steps = argc > 1 ? std::stoi(argv[1]) : 50;
-  std::vector<int> threads;
-  for (int i = 2; i < argc; ++i)
-    threads.push_back(std::stoi(argv[i]));
-  if (threads.empty())
-    threads = {1, 2};
-
+  const bench::Options o = bench::parse(argc, argv, 50);
   const Case with_skin = read_case_text(block_case, "sph_throughput.yaml");
   const Model model = mesh_case(with_skin);
-  nlohmann::json out{
-      {"benchmark", "sph_particle_phase"}, {"particles", model.particle_count()}, {"steps", steps}};
-  double base = 0;
   Case no_skin = with_skin;
   no_skin.sph.skin = 0.0;
-  for (const Case* skin_case : std::array<const Case*, 2>{&with_skin, &no_skin})
-    for (int t : threads) {
-      const Case& c = *skin_case;
-      omp_set_num_threads(t);
-      double wall = std::numeric_limits<double>::infinity();
+  nlohmann::json out{{"benchmark", "sph_particle_phase"},
+                     {"particles", model.particle_count()},
+                     {"steps", o.steps}};
+  double base = 0;
+  for (const Case* c : std::array<const Case*, 2>{&with_skin, &no_skin})
+    for (int t : o.threads) {
       double pairs = 0;
       long long rebuilds = 0;
-      for (int repetition = 0; repetition < 3; ++repetition) {
-        Simulation sim(c, model);
-        sim.step(sim.stable_dt()); // warm-up
-        const auto start = std::chrono::steady_clock::now();
-        for (int s = 0; s < steps; ++s)
-          sim.step(sim.stable_dt());
-        wall = std::min(
-            wall, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      const double wall = bench::best_wall(*c, model, o.steps, t, [&](const Simulation& sim) {
         pairs = 0;
         for (int n : sim.particle_system().particles().neighbours_p)
           pairs += n;
         rebuilds = sim.particle_system().rebuilds();
-      }
-      const double rate = double(model.particle_count()) * steps / wall;
+      });
+      const double rate = double(model.particle_count()) * o.steps / wall;
       if (base == 0)
         base = rate;
       // Each step visits every (i, j) entry twice: kinematics and forces.
-      const double pair_rate = 2.0 * pairs * steps / wall;
+      const double pair_rate = 2.0 * pairs * o.steps / wall;
       out["results"].push_back({{"threads", t},
-                                {"skin", c.sph.skin},
+                                {"skin", c->sph.skin},
                                 {"neighbour_rebuilds", rebuilds},
                                 {"wall_s", wall},
                                 {"particle_steps_per_s", rate},
