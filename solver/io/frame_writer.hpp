@@ -6,7 +6,8 @@
 // FE point data: displacement (m), velocity (m/s), body_id; cell data: stress (symmetric
 // tensor XX YY ZZ XY YZ XZ, Pa), von_mises (Pa), pressure (Pa), density (kg/m³), body_id.
 // Particle point data: displacement, velocity, stress, von_mises, pressure, density, h (m),
-// neighbours (count within 2h), body_id, id (index in model.h5).
+// internal_energy (specific, J/kg), neighbours (count within 2h), body_id, id (index in
+// model.h5).
 // Verified by tests/e2e/run_test.cpp (frames re-read with VTK's reader).
 #pragma once
 
