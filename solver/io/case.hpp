@@ -108,14 +108,14 @@ struct SphSpec {
   double alpha = 1.0; // linear (bulk) coefficient
   double beta = 2.0;  // quadratic coefficient
   bool artificial_stress = true;
-  double epsilon = 0.3;      // artificial stress factor
+  double epsilon = 0.3;       // artificial stress factor
   double stress_exponent = 4; // n in f_ij^n, a positive integer
   bool xsph = true;
   double xsph_epsilon = 0.5;
-  bool variable_h = true; // dh/dt = −(h/3ρ) dρ/dt
+  bool variable_h = true;          // dh/dt = −(h/3ρ) dρ/dt
   bool gradient_correction = true; // velocity gradient L M⁻¹ (exact for linear fields)
-  double cfl = 0.3;       // Δt_SPH = cfl · min h/(c + |v|)
-  double skin = 0.1;      // neighbour-list skin as a fraction of the largest 2h
+  double cfl = 0.3;                // Δt_SPH = cfl · min h/(c + |v|)
+  double skin = 0.1;               // neighbour-list skin as a fraction of the largest 2h
 };
 
 struct OutputSpec {

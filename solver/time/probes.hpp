@@ -17,7 +17,7 @@ namespace sphfem {
 struct Probe {
   std::string name;
   bool on_particle = false;
-  Index node = -1; // node index, or particle id (model.h5 order) when on_particle
+  Index node = -1;               // node index, or particle id (model.h5 order) when on_particle
   Vec3 requested = Vec3::Zero(); // the case's point, m
   Vec3 position = Vec3::Zero();  // the node's reference position, m
 };

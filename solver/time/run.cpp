@@ -82,9 +82,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
            " steps to t = " + format("%.4e", c.time.end) + " s");
   for (const auto& p : probes)
     log.line("probe " + p.name + " on " + (p.on_particle ? "particle " : "node ") +
-             std::to_string(p.node) + " at (" +
-             format("%.6g", p.position.x()) + ", " + format("%.6g", p.position.y()) + ", " +
-             format("%.6g", p.position.z()) + ") m");
+             std::to_string(p.node) + " at (" + format("%.6g", p.position.x()) + ", " +
+             format("%.6g", p.position.y()) + ", " + format("%.6g", p.position.z()) + ") m");
 
   std::unique_ptr<FrameWriter> frames;
   if (c.output.frames) {

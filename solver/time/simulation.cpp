@@ -160,21 +160,19 @@ void Simulation::step(double dt) {
 Energies Simulation::energies() const {
   Energies out;
   const auto& p = particles_.particles();
-  out.kinetic = deterministic_sum(nodes_.size(), 0.0,
-                                  [&](Index i) {
-                                    return 0.5 * nodes_.m_n[i] * nodes_.v_n[i].squaredNorm();
-                                  }) +
-                deterministic_sum(p.size(), 0.0, [&](Index i) {
-                  return 0.5 * p.m_p[i] * p.v_p[i].squaredNorm();
-                });
+  out.kinetic = deterministic_sum(
+                    nodes_.size(), 0.0,
+                    [&](Index i) { return 0.5 * nodes_.m_n[i] * nodes_.v_n[i].squaredNorm(); }) +
+                deterministic_sum(p.size(), 0.0,
+                                  [&](Index i) { return 0.5 * p.m_p[i] * p.v_p[i].squaredNorm(); });
   // Kinetic energy is that of v^{n+½}; the internal energy is taken at the same half step,
   // half-way through the last stress update (else a vibrating body shows an energy
   // oscillation of relative size ω Δt / 2).
   const auto& e = elements_;
-  out.internal = deterministic_sum(e.size(), 0.0,
-                                   [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; }) +
-                 deterministic_sum(p.size(), 0.0,
-                                   [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; });
+  out.internal =
+      deterministic_sum(e.size(), 0.0,
+                        [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; }) +
+      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; });
   out.hourglass =
       deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_hg_e[k]; });
   out.external_work = external_work_;
