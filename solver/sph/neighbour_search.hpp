@@ -57,8 +57,10 @@ struct CellGrid {
 };
 
 // Cell list + Verlet list. A build bins the particles into cells of edge ≥ cutoff/search_reach
-// (counting sort), finds each pair once in a half stencil of the sorted points, completes the
-// rows by a transposition and sorts them by original index. Member buffers are reused, so
+// (counting sort), finds each pair once in a half stencil of the sorted points, completes each
+// row from the half rows that list it, and sorts rows by original index (row by row when the
+// numbering is close to cell order, else by one transposition of the whole list). Buffers are
+// reused, so
 // rebuilding for a stable particle count does not allocate. Deterministic: the lists do not
 // depend on the thread count.
 //
@@ -125,7 +127,7 @@ private:
 
   // Cells searched on each side of a particle's own cell. Smaller cells test fewer candidates
   // ((2r + 1)³/r³ cutoff³: 27, 15.6, 12.7 for r = 1, 2, 3) over more, shorter spans; measured
-  // on bench/neighbour_search.cpp, r = 2 builds fastest (r = 1: ~1.4×, r = 3: ~1.15× slower).
+  // on the benchmark's lattice, r = 2 builds fastest (r = 1 and r = 3: ~1.2× slower).
   static constexpr Index search_reach = 2;
 
   void bin(std::span<const Vec3> x, std::span<const double> h);
