@@ -60,9 +60,8 @@ struct CellGrid {
 // (counting sort), finds each pair once in a half stencil of the sorted points, completes each
 // row from the half rows that list it, and sorts rows by original index (row by row when the
 // numbering is close to cell order, else by one transposition of the whole list). Buffers are
-// reused, so
-// rebuilding for a stable particle count does not allocate. Deterministic: the lists do not
-// depend on the thread count.
+// reused, so rebuilding for a stable particle count does not allocate. Deterministic: the
+// lists do not depend on the thread count.
 //
 // Room for passive candidates (FE nodes as background particles, searched only as neighbours):
 // they would be binned by a second Bins over the same CellGrid and give a second NeighbourList
