@@ -57,9 +57,12 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
 
 void ParticleSystem::rebuild() {
   auto& p = particles_;
-  // Sort by cell for locality, then list in the sorted order.
-  const double largest_h = *std::max_element(p.h_p.begin(), p.h_p.end());
-  const std::vector<Index> order = search_.cell_order(p.x_p, 2.0 * largest_h + skin_);
+  // Renumber in the cell order of the last build (the particles have moved little since; at
+  // the start, of a first build) for locality, then list: lists filled in near-cell order take
+  // the search's fast path (≈ 1.4× faster, bench/neighbour_search.cpp).
+  if (rebuilds_ == 0)
+    search_.build(p.x_p, p.h_p, skin_);
+  const std::vector<Index> order = search_.build_order();
   p.for_each_field([&order](auto& field) { permute(field, order); });
   for (Index k = 0; k < p.size(); ++k)
     index_of_id_[p.id_p[k]] = k;
