@@ -131,14 +131,20 @@ double sph_forces(Particles& p, const NeighbourList& list,
                   const std::vector<ElasticConstants>& materials, const SphSpec& spec) {
   const Index n = p.size();
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
+  // σ/ρ² and the sound speed once per particle, not once per pair.
+#pragma omp parallel for schedule(static) if (n > parallel_min_items)
+  for (Index i = 0; i < n; ++i) {
+    p.A_p[i] = total_stress(p, i) / (p.rho_p[i] * p.rho_p[i]);
+    p.c_p[i] = sound_speed(materials[p.material_p[i]], p.rho_p[i]);
+  }
   double dt_min = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(min : dt_min) if (n > parallel_min_items / 16)
   for (Index i = 0; i < n; ++i) {
     const Vec3 xi = p.x_p[i], vi = p.v_p[i];
     const int body = p.body_p[i];
     const double rho_i = p.rho_p[i];
-    const double c_i = sound_speed(materials[p.material_p[i]], rho_i);
-    const Mat3 A_i = total_stress(p, i) / (rho_i * rho_i);
+    const double c_i = p.c_p[i];
+    const Mat3& A_i = p.A_p[i];
     Vec3 f = Vec3::Zero();
     double heat = 0;
     for (Index j : list.of(i)) {
@@ -151,7 +157,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
       const Vec3 v_ij = vi - p.v_p[j];
       const double mm = p.m_p[i] * p.m_p[j];
-      Mat3 pair = A_i + total_stress(p, j) / (rho_j * rho_j);
+      const Mat3 pair = A_i + p.A_p[j];
       if (spec.artificial_stress) {
         const double dp = 0.5 * (p.dp_p[i] + p.dp_p[j]);
         const double fij = power(kernel_W(r, h_ij) / kernel_W(dp, h_ij), exponent);
@@ -162,7 +168,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
       f += mm * (pair * grad);
       const double approach = v_ij.dot(x_ij);
       if (spec.artificial_viscosity && approach < 0) {
-        const double c_j = sound_speed(materials[p.material_p[j]], rho_j);
+        const double c_j = p.c_p[j];
         const double mu = h_ij * approach / (r * r + 0.01 * h_ij * h_ij);
         const double Pi =
             (-spec.alpha * 0.5 * (c_i + c_j) * mu + spec.beta * mu * mu) / (0.5 * (rho_i + rho_j));

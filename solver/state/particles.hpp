@@ -34,6 +34,8 @@ struct Particles {
   std::vector<Vec3> xsph_p;   // XSPH velocity correction, m/s
   std::vector<Vec3> u_p;      // drift velocity of the last step, v + XSPH, m/s
   std::vector<double> heat_p; // heating power of artificial viscosity and stress, W
+  std::vector<Mat3> A_p;      // σ/ρ² for the momentum pair term, Pa m⁶/kg²
+  std::vector<double> c_p;    // sound speed √((K + 4G/3)/ρ), m/s
   std::vector<Mat3> R_p;      // artificial stress R_i (METHOD.md §2), Pa m⁶/kg²
   std::vector<int> neighbours_p; // neighbour count (within 2h), for output
 
@@ -45,7 +47,7 @@ struct Particles {
     visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p);
     visit(material_p), visit(id_p), visit(f_p), visit(L_p), visit(drho_p), visit(xsph_p);
     visit(u_p), visit(G_p), visit(de_p);
-    visit(heat_p), visit(R_p), visit(neighbours_p);
+    visit(heat_p), visit(A_p), visit(c_p), visit(R_p), visit(neighbours_p);
   }
 };
 
