@@ -113,7 +113,7 @@ struct SphSpec {
   bool xsph = true;
   double xsph_epsilon = 0.5;
   bool variable_h = true;          // dh/dt = −(h/3ρ) dρ/dt
-  bool gradient_correction = true; // velocity gradient L M⁻¹ (exact for linear fields)
+  bool gradient_correction = true; // L = G M⁻¹/ρ exact for linear fields; M⁻¹ in momentum too
   double cfl = 0.3;                // Δt_SPH = cfl · min h/(c + |v|)
   double skin = 0.1;               // neighbour-list skin as a fraction of the largest 2h
 };

@@ -46,13 +46,14 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     p.id_p[i] = i;
     p.R_p[i].setZero();
     p.u_p[i].setZero();
+    p.f_p[i].setZero();
     largest_h = std::max(largest_h, p.h_p[i]);
   }
   skin_ = spec_.skin * 2.0 * largest_h;
   index_of_id_.resize(n);
   rebuild();
   sph_kinematics(p, search_.list(), spec_, 0.0);
-  forces();
+  forces(0.0);
 }
 
 void ParticleSystem::rebuild() {
@@ -70,8 +71,8 @@ void ParticleSystem::rebuild() {
   ++rebuilds_;
 }
 
-void ParticleSystem::forces() {
-  dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_);
+void ParticleSystem::forces(double dt) {
+  dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
 }
 
 void ParticleSystem::kick(double dt_v) {
@@ -101,7 +102,7 @@ void ParticleSystem::update(double dt) {
     rebuild();
   sph_kinematics(particles_, search_.list(), spec_, dt);
   sph_material_update(particles_, materials_, spec_, dt);
-  forces();
+  forces(dt);
 }
 
 } // namespace sphfem

@@ -38,7 +38,7 @@ public:
 
 private:
   void rebuild();
-  void forces();
+  void forces(double dt);
 
   SphSpec spec_;
   std::vector<ElasticConstants> materials_;

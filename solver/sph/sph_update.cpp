@@ -56,7 +56,7 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
     // then has an exactly skew velocity gradient, as for the hexahedra.
     const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
     const int body = p.body_p[i];
-    Mat3 L = Mat3::Zero(), M = Mat3::Zero(), G = Mat3::Zero();
+    Mat3 M = Mat3::Zero(), G = Mat3::Zero();
     Vec3 xsph = Vec3::Zero();
     double drho = 0;
     int count = 0;
@@ -69,22 +69,24 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
       ++count;
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
       const Vec3 v_ji = p.v_p[j] - vi;
-      const double V_j = p.m_p[j] / p.rho_p[j];
-      const Mat3 vg = v_ji * grad.transpose();
-      L += V_j * vg;
-      G += p.m_p[j] * vg;
-      M -= V_j * x_ij * grad.transpose();
+      G += p.m_p[j] * v_ji * grad.transpose();
+      M -= p.m_p[j] * x_ij * grad.transpose();
       drho -= p.m_p[j] * v_ji.dot(grad);
       if (spec.xsph)
         xsph += (2.0 * p.m_p[j] / (p.rho_p[i] + p.rho_p[j]) * kernel_W(r, h_ij)) * v_ji;
     }
-    // Gradient correction (Randles & Libersky): L M⁻¹ differentiates every linear field
-    // exactly, also at free surfaces where the kernel support is cut. Skipped where M is too
-    // degenerate to invert (a nearly isolated particle).
-    if (spec.gradient_correction && M.determinant() > 1e-3)
-      L = L * M.inverse();
-    p.L_p[i] = L;
-    p.G_p[i] = G;
+    // Gradient correction (Randles & Libersky; Bonet & Lok 1999): with C = M⁻¹,
+    // M = −(1/ρ_i) Σ_j m_j x_ij ⊗ ∇W, the gradient G C/ρ_i of every linear field is exact, also
+    // at free surfaces where the kernel support is cut. The momentum pair term uses the same C
+    // (A = σ Cᵀ/ρ², the transpose of this gradient), so stress power and force work agree pair
+    // by pair, and a uniform stress loads only the surface. Identity where M is too degenerate
+    // to invert (a nearly isolated particle) or the correction is off.
+    M /= p.rho_p[i];
+    const Mat3 C = spec.gradient_correction && M.determinant() > 1e-3 ? Mat3(M.inverse())
+                                                                      : Mat3(Mat3::Identity());
+    p.C_p[i] = C;
+    p.G_p[i] = G * C;
+    p.L_p[i] = p.G_p[i] / p.rho_p[i];
     p.drho_p[i] = drho;
     p.xsph_p[i] = spec.xsph_epsilon * xsph;
     p.neighbours_p[i] = count;
@@ -113,8 +115,7 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
     elastic_deviator_update(mat, D, W, dt, p.S_p[i]);
     p.p_p[i] = elastic_pressure(mat, rho);
     // Stress work in the form that matches the symmetric momentum equation pair by pair,
-    // m_i (σ/ρ²) : Σ_j m_j v_ji ⊗ ∇W, so the total energy is conserved even where the
-    // corrected L (used for the stress) differs from the plain kernel sum.
+    // m_i (σ/ρ²) : Σ_j m_j v_ji ⊗ ∇W C = m_i σ : L / ρ, so the total energy is conserved.
     const Mat3 sigma_mid = 0.5 * (sigma_old + total_stress(p, i));
     const double rho_mid = 0.5 * (rho_old + rho);
     p.de_p[i] = dt * p.m_p[i] / (rho_mid * rho_mid) * sigma_mid.cwiseProduct(p.G_p[i]).sum();
@@ -128,19 +129,20 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
 }
 
 double sph_forces(Particles& p, const NeighbourList& list,
-                  const std::vector<ElasticConstants>& materials, const SphSpec& spec) {
+                  const std::vector<ElasticConstants>& materials, const SphSpec& spec, double dt) {
   const Index n = p.size();
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
-  // σ/ρ² and the sound speed once per particle, not once per pair.
+  // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
   for (Index i = 0; i < n; ++i) {
-    p.A_p[i] = total_stress(p, i) / (p.rho_p[i] * p.rho_p[i]);
+    p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() / (p.rho_p[i] * p.rho_p[i]);
     p.c_p[i] = sound_speed(materials[p.material_p[i]], p.rho_p[i]);
+    p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
   }
   double dt_min = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(min : dt_min) if (n > parallel_min_items / 16)
   for (Index i = 0; i < n; ++i) {
-    const Vec3 xi = p.x_p[i], vi = p.v_p[i];
+    const Vec3 xi = p.x_p[i], vi = p.v_p[i], vni = p.vn_p[i];
     const int body = p.body_p[i];
     const double rho_i = p.rho_p[i];
     const double c_i = p.c_p[i];
@@ -155,7 +157,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
         continue;
       const double rho_j = p.rho_p[j];
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
-      const Vec3 v_ij = vi - p.v_p[j];
+      const Vec3 v_ij = vi - p.v_p[j], vn_ij = vni - p.vn_p[j];
       const double mm = p.m_p[i] * p.m_p[j];
       const Mat3 pair = A_i + p.A_p[j];
       if (spec.artificial_stress) {
@@ -163,7 +165,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
         const double fij = power(kernel_W(r, h_ij) / kernel_W(dp, h_ij), exponent);
         const Vec3 f_R = (mm * fij) * ((p.R_p[i] + p.R_p[j]) * grad);
         f += f_R;
-        heat -= 0.5 * f_R.dot(v_ij);
+        heat -= 0.5 * f_R.dot(vn_ij);
       }
       f += mm * (pair * grad);
       const double approach = v_ij.dot(x_ij);
@@ -173,7 +175,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
         const double Pi =
             (-spec.alpha * 0.5 * (c_i + c_j) * mu + spec.beta * mu * mu) / (0.5 * (rho_i + rho_j));
         f -= (mm * Pi) * grad;
-        heat += 0.5 * mm * Pi * v_ij.dot(grad);
+        heat += 0.5 * mm * Pi * vn_ij.dot(grad);
       }
     }
     p.f_p[i] = f;

@@ -1,6 +1,9 @@
 #include "solver/time/particle_boundaries.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/sph/surface_traction.hpp"
+
+#include <algorithm>
 
 namespace sphfem {
 
@@ -23,7 +26,12 @@ ParticleBoundaries::ParticleBoundaries(const Case& c, const Model& model) {
   for (const auto& load : c.loads)
     if (on_particles(c, load.body)) {
       const ParticleFace& f = face(model, load.body, load.face);
-      loads_.push_back({f.particles, f.area, f.normal, load.pressure, load.function});
+      const int body =
+          static_cast<int>(std::find(model.body_names.begin(), model.body_names.end(), load.body) -
+                           model.body_names.begin());
+      TractionWeights w = surface_traction_weights(model, body, f, c.sph.gradient_correction);
+      loads_.push_back(
+          {std::move(w.particles), std::move(w.area), f.normal, load.pressure, load.function});
     }
   for (const auto& bc : c.boundary_conditions)
     if (on_particles(c, bc.body)) {

@@ -1,9 +1,10 @@
 // Loads and kinematic boundary conditions on the named faces of SPH bodies (the particle
-// layers of Model::particle_faces): a pressure p(t) gives each face particle the force
-// −p A_i n (A_i its tributary area, n the face's outward normal; the direction is that of
-// the initial face, not a follower load), and fixed / prescribed-velocity conditions set the
-// particles' velocities. Applied right after the particles' kick; returns the work and
-// impulse of loads and reactions for the energy and momentum balances.
+// layers of Model::particle_faces): a pressure p(t) gives each particle i within 4h of the face
+// the force −p w_i n, w_i its share of the face area from surface_traction.hpp (consistent
+// with the SPH momentum equation; n the face's outward normal, that of the initial face, not a
+// follower load), and fixed / prescribed-velocity conditions set the face particles'
+// velocities. Applied right after the particles' kick; returns the work and impulse of loads
+// and reactions for the energy and momentum balances.
 // Verified by tests/sph/particle_boundaries_test.cpp and the bar_pressed_sph case.
 #pragma once
 
@@ -30,8 +31,8 @@ public:
 
 private:
   struct Load {
-    std::vector<Index> ids; // particle ids (model.h5 order)
-    std::vector<double> area;
+    std::vector<Index> ids;   // particle ids (model.h5 order)
+    std::vector<double> area; // share of the face area, m²
     Vec3 normal;
     double pressure;
     TimeFunction function;

@@ -78,9 +78,10 @@ const double dp = 1e-3;
 
 TEST(Sph, FreeSpinningDeformingBodyConservesMomentum) {
   // Spin plus a non-uniform stretching field: stress, artificial viscosity and stress all
-  // act. Linear momentum must stay at its initial value to round-off; angular momentum is not
-  // conserved exactly by standard SPH for solids (the corrected gradient makes it less so) —
-  // its drift is measured and bounded.
+  // act. Linear momentum must stay at its initial value to round-off. Angular momentum is not
+  // conserved exactly: the corrected momentum equation (Bonet & Lok) conserves it, but the
+  // artificial stress pair force (R_i + R_j) ∇W is not central — its drift is measured and
+  // bounded.
   Block b(test::block_case(dp, 1.2), test::lattice_block(Vec3(6e-3, 8e-3, 10e-3), dp, 1.2));
   const Vec3 centre(3e-3, 4e-3, 5e-3), omega(2e4, -1e4, 3e4);
   b.set_velocity([&](const Vec3& x) -> Vec3 {
@@ -94,10 +95,12 @@ TEST(Sph, FreeSpinningDeformingBodyConservesMomentum) {
   for (int s = 0; s < 300; ++s)
     b.step(2e-8);
   EXPECT_LT((b.momentum() - P0).norm(), 1e-13 * mass_speed);
-  // Observed: 0.15% of |L0| after 300 steps (6 µs, 0.2 rad of spin); asserted below 1%.
+  // Observed: 4e-5 of |L0| after 300 steps (6 µs, 0.2 rad of spin); 3e-6 without the
+  // artificial stress, the same with half the step; 1.5e-3 with the plain kernel gradient in
+  // the momentum equation. Asserted below 2e-4.
   const double drift = (b.angular_momentum() - L0).norm() / L0.norm();
   RecordProperty("angular_momentum_drift", std::to_string(drift));
-  EXPECT_LT(drift, 0.01);
+  EXPECT_LT(drift, 2e-4);
 }
 
 TEST(Sph, RigidRotationProducesNoStress) {
