@@ -4,6 +4,7 @@
 #include "mesher/mesher.hpp"
 
 #include "mesher/gmsh_body.hpp"
+#include "mesher/interface_tags.hpp"
 #include "mesher/lattice.hpp"
 #include "solver/core/error.hpp"
 
@@ -140,15 +141,41 @@ std::string geometry_signature(const GeometrySpec& g) {
   return "unknown";
 }
 
+bool in_contact(const Case& c, const std::string& body) {
+  return std::ranges::any_of(c.contacts, [&body](const ContactSpec& contact) {
+    return contact.bodies[0] == body || contact.bodies[1] == body;
+  });
+}
+
 // The discretisation keys of a body. An SPH body's particles carry its material's density. Its
 // lattice is named also when centred (the default), so SPH models written before particle faces
-// existed are stale and get remeshed.
+// existed are stale and get remeshed. An FE body's h_factor sets its background particles' h
+// only where it is in contact, so it is named only then (FE-only signatures keep their text).
 std::string resolution_signature(const Case& c, const BodySpec& body) {
   if (body.method == Method::Fem)
-    return "element_size=" + exact(body.element_size);
+    return "element_size=" + exact(body.element_size) +
+           (in_contact(c, body.name) ? " h_factor=" + exact(body.h_factor) : "");
   const char* lattice = body.lattice == BodySpec::Lattice::Nodes ? "nodes" : "centred";
   return "spacing=" + exact(body.spacing) + " h_factor=" + exact(body.h_factor) +
          " lattice=" + lattice + " density=" + exact(c.material(body.material).density);
+}
+
+// The couplings, which decide the interface tags: one line per attachment and per contact pair
+// (its penalty and exponent do not change the model), each pair's names in a fixed order and the
+// lines sorted, since neither order changes the tags. Empty without couplings.
+std::string coupling_signature(const Case& c) {
+  std::vector<std::string> lines;
+  for (const AttachSpec& attach : c.attachments)
+    lines.push_back("attach fem=" + attach.fem_body + " sph=" + attach.sph_body + "\n");
+  for (const ContactSpec& contact : c.contacts) {
+    const auto [a, b] = std::minmax(contact.bodies[0], contact.bodies[1]);
+    lines.push_back("contact " + a + " " + b + "\n");
+  }
+  std::ranges::sort(lines);
+  std::string out;
+  for (const std::string& line : lines)
+    out += line;
+  return out;
 }
 
 } // namespace
@@ -187,6 +214,7 @@ Model mesh_case(const Case& c) {
       session.reset();
     model.body_names.push_back(c.bodies[b].name);
   }
+  mesher::tag_interfaces(model, c);
   return model;
 }
 
@@ -201,6 +229,7 @@ std::string mesh_signature(const Case& c) {
       throw Error(detail::concat("mesh: body '", body.name, "': ", e.what()));
     }
   }
+  out << coupling_signature(c);
   return out.str();
 }
 

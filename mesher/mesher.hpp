@@ -23,13 +23,17 @@ namespace sphfem {
 // h = h_factor · Δp. An SPH box also gets particle faces xmin … zmax (Model::particle_faces:
 // outermost particle layer, tributary areas, outward normal).
 // Model::spacing_b gets Δp for SPH bodies and 0 for FE bodies.
+// Then the interface tags of the case's attachments and contact pairs (background nodes with
+// their h and Δp, interface_p; rules in mesher/interface_tags.cpp).
 // Throws sphfem::Error naming the body on any failure.
 Model mesh_case(const Case& c);
 
 // A stable text signature of everything in the case that affects the model (per body in
 // order: name, method, geometry kind and numbers, element_size or spacing, h_factor, lattice
 // and material density; a geometry file by its path and an FNV-1a hash of its bytes — files it
-// includes are not hashed). Doubles round-trip exactly. Throws if a geometry file is unreadable.
+// includes are not hashed; an FE body's h_factor only if it is in a contact pair), then one line
+// per attachment and contact pair (sorted; not the penalty or exponent). Doubles round-trip
+// exactly. Throws if a geometry file is unreadable.
 std::string mesh_signature(const Case& c);
 
 } // namespace sphfem

@@ -54,7 +54,7 @@ struct BodySpec {
   GeometrySpec geometry;
   double element_size = 0;            // m (fem)
   double spacing = 0;                 // m (sph)
-  double h_factor = 1.2;              // (sph)
+  double h_factor = 1.2;              // sph: h/Δp; fem: background particles' h/element_size
   Lattice lattice = Lattice::Centred; // (sph)
   std::string material;
   Vec3 velocity = Vec3::Zero(); // initial velocity, m/s
@@ -118,6 +118,21 @@ struct SphSpec {
   double skin = 0.1;               // neighbour-list skin as a fraction of the largest 2h
 };
 
+// An SPH body glued to an FE body (METHOD.md §4.2): the particles' sums include the FE
+// nodes' background particles, as if the two were one body.
+struct AttachSpec {
+  std::string fem_body;
+  std::string sph_body;
+};
+
+// Penalty contact between two bodies (METHOD.md §4.3): entities of one body (particles and
+// background particles) repel those of the other within 2h.
+struct ContactSpec {
+  std::array<std::string, 2> bodies;
+  double penalty = 0;  // K, Pa
+  double exponent = 2; // n
+};
+
 struct OutputSpec {
   bool frames = true;
 };
@@ -131,6 +146,8 @@ struct Case {
   std::vector<BoundaryConditionSpec> boundary_conditions;
   std::vector<PressureLoadSpec> loads;
   std::vector<ProbeSpec> probes;
+  std::vector<AttachSpec> attachments;
+  std::vector<ContactSpec> contacts;
   FemSpec fem;
   SphSpec sph;
   OutputSpec output;

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -202,6 +203,12 @@ struct Located {
   std::string path;
 };
 
+// The two bodies of a list item (attach, contact) as given, and the item.
+struct BodyPair {
+  std::array<std::string, 2> names;
+  Located item;
+};
+
 // A map entry; key and value are both located at the entry's path.
 struct Entry {
   std::string name;
@@ -276,6 +283,10 @@ private:
   BoundaryConditionSpec boundary_condition(const Located& at, const Case& c) const;
   PressureLoadSpec load(const Located& at, const Case& c) const;
   std::vector<ProbeSpec> probes(const Located& at, const Case& c) const;
+  std::array<const BodySpec*, 2> body_pair(const Located& item, const Case& c,
+                                           std::vector<BodyPair>& earlier) const;
+  std::vector<AttachSpec> attachments(const Located& at, const Case& c) const;
+  std::vector<ContactSpec> contacts(const Located& at, const Case& c) const;
   FemSpec fem(const Located& at) const;
   SphSpec sph(const Located& at) const;
   OutputSpec output(const Located& at) const;
@@ -529,11 +540,13 @@ BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& mater
                                {{"fem", Method::Fem}, {"sph", Method::Sph}});
   spec.geometry = geometry(required(at, "geometry", "box, cylinder or file"), spec.method);
   if (spec.method == Method::Fem) {
-    for (const std::string key : {"spacing", "h_factor", "lattice"})
+    for (const std::string key : {"spacing", "lattice"})
       if (const Located sph_only = child(at, key); sph_only.node.IsDefined())
         fail(sph_only, "only allowed for method sph (a fem body takes element_size)");
     spec.element_size =
         number(required(at, "element_size", "element edge length, m"), "> 0 m", positive);
+    // The h of the body's background particles where it is in contact (h_factor · element_size).
+    spec.h_factor = number_or(at, "h_factor", spec.h_factor, "> 0", positive);
   } else {
     if (const Located fem_only = child(at, "element_size"); fem_only.node.IsDefined())
       fail(fem_only, "only allowed for method fem (an sph body takes spacing)");
@@ -647,6 +660,78 @@ std::vector<ProbeSpec> Reader::probes(const Located& at, const Case& c) const {
   return out;
 }
 
+// The two distinct bodies named by `item`'s required "bodies" key. `earlier` holds the pairs
+// before it in the same list, which it must not repeat (in either order); it is appended to.
+std::array<const BodySpec*, 2> Reader::body_pair(const Located& item, const Case& c,
+                                                 std::vector<BodyPair>& earlier) const {
+  const Located list = required(item, "bodies", "the two bodies [a, b]");
+  if (!list.node.IsSequence() || list.node.size() != 2)
+    fail(list, "must be a list of 2 body names [a, b], got " + describe(list.node));
+  Names names;
+  for (const BodySpec& body : c.bodies)
+    names.push_back(body.name);
+  const std::vector<Located> given = items(list);
+  const std::array<std::string, 2> pair{one_of(given[0], names, "body"),
+                                        one_of(given[1], names, "body")};
+  if (pair[0] == pair[1])
+    fail(list, "must name two different bodies, got '" + pair[0] + "' twice");
+  for (const auto& [seen, other] : earlier)
+    if ((seen[0] == pair[0] && seen[1] == pair[1]) || (seen[0] == pair[1] && seen[1] == pair[0]))
+      fail(list, "the pair '" + pair[0] + "', '" + pair[1] + "' is already given at " +
+                     where(other) + " (" + other.path + ")");
+  earlier.push_back({pair, item});
+  return {&c.bodies[static_cast<std::size_t>(c.body_index(pair[0]))],
+          &c.bodies[static_cast<std::size_t>(c.body_index(pair[1]))]};
+}
+
+// attach: [{bodies: [fem, sph]}, ...], the two in either order; an SPH body joins at most one
+// FE body (its particles' sums would otherwise mix two FE bodies' background particles).
+std::vector<AttachSpec> Reader::attachments(const Located& at, const Case& c) const {
+  std::vector<AttachSpec> out;
+  std::vector<BodyPair> done;
+  for (const Located& item : items(at)) {
+    check_map(item, {"bodies"});
+    const auto [a, b] = body_pair(item, c, done);
+    if (a->method == b->method)
+      fail(child(item, "bodies"), "must name one fem body and one sph body, got '" + a->name +
+                                      "' and '" + b->name + "', both " +
+                                      (a->method == Method::Fem ? "fem" : "sph"));
+    AttachSpec spec{a->method == Method::Fem ? a->name : b->name,
+                    a->method == Method::Sph ? a->name : b->name};
+    const auto same_sph = std::ranges::find(out, spec.sph_body, &AttachSpec::sph_body);
+    if (same_sph != out.end())
+      fail(child(item, "bodies"),
+           "sph body '" + spec.sph_body + "' is already attached to '" + same_sph->fem_body +
+               "' at " + where(done[static_cast<std::size_t>(same_sph - out.begin())].item) +
+               " (an sph body attaches to at most one fem body)");
+    out.push_back(spec);
+  }
+  return out;
+}
+
+// contact: [{bodies: [a, b], penalty: K, exponent: n}, ...]. Attached bodies act as one body,
+// whose entities never meet through contact (METHOD.md §4.3), so they cannot be a pair.
+std::vector<ContactSpec> Reader::contacts(const Located& at, const Case& c) const {
+  std::vector<ContactSpec> out;
+  std::vector<BodyPair> done;
+  for (const Located& item : items(at)) {
+    check_map(item, {"bodies", "penalty", "exponent"});
+    const auto [a, b] = body_pair(item, c, done);
+    for (const AttachSpec& attach : c.attachments)
+      if ((attach.fem_body == a->name && attach.sph_body == b->name) ||
+          (attach.fem_body == b->name && attach.sph_body == a->name))
+        fail(child(item, "bodies"), "'" + a->name + "' and '" + b->name +
+                                        "' are attached (one body): they cannot also be in "
+                                        "contact");
+    ContactSpec spec;
+    spec.bodies = {a->name, b->name};
+    spec.penalty = number(required(item, "penalty", "penalty pressure K, Pa"), "> 0 Pa", positive);
+    spec.exponent = number_or(item, "exponent", spec.exponent, "> 0", positive);
+    out.push_back(spec);
+  }
+  return out;
+}
+
 FemSpec Reader::fem(const Located& at) const {
   check_map(at, {"hourglass", "bulk_viscosity"});
   FemSpec spec;
@@ -715,7 +800,7 @@ OutputSpec Reader::output(const Located& at) const {
 Case Reader::read(const YAML::Node& node) const {
   const Located root{node, ""};
   check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
-                   "fem", "sph", "output"});
+                   "attach", "contact", "fem", "sph", "output"});
   Case c;
   const Located name = required(root, "name", "case name");
   c.name = text(name);
@@ -735,6 +820,10 @@ Case Reader::read(const YAML::Node& node) const {
       c.loads.push_back(load(item, c));
   if (const Located list = child(root, "probes"); list.node.IsDefined())
     c.probes = probes(list, c);
+  if (const Located list = child(root, "attach"); list.node.IsDefined())
+    c.attachments = attachments(list, c);
+  if (const Located list = child(root, "contact"); list.node.IsDefined())
+    c.contacts = contacts(list, c);
   if (const Located section = child(root, "fem"); section.node.IsDefined())
     c.fem = fem(section);
   if (const Located section = child(root, "sph"); section.node.IsDefined())

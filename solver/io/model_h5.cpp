@@ -178,6 +178,37 @@ void write_particles(const H5::H5File& file, const Model& m) {
   write_attribute(write_array(particles, "density", m.rho_p), "units", "kg/m^3");
   write_attribute(write_array(particles, "h", m.h_p), "units", "m");
   write_array(particles, "body_id", m.body_p);
+  SPHFEM_CHECK(m.interface_p.empty() || m.interface_p.size() == p, "there are ",
+               m.interface_p.size(), " interface flags for ", p, " particles");
+  write_array(particles, "interface",
+              m.interface_p.empty() ? std::vector<Index>(p, 0) : m.interface_p);
+}
+
+// Background nodes ascending and in range, one positive finite h and spacing each.
+void check_coupling(const Model& m, const std::string& where) {
+  const std::size_t b = m.background_nodes.size();
+  SPHFEM_CHECK(m.h_background.size() == b, where, "h has ", m.h_background.size(), " entries for ",
+               b, " background nodes");
+  SPHFEM_CHECK(m.spacing_background.size() == b, where, "spacing has ", m.spacing_background.size(),
+               " entries for ", b, " background nodes");
+  check_indices(m.background_nodes, m.x_n.size(), where + "background_nodes");
+  for (std::size_t i = 1; i < b; ++i)
+    SPHFEM_CHECK(m.background_nodes[i - 1] < m.background_nodes[i], where,
+                 "background_nodes is not ascending at index ", i, " (", m.background_nodes[i - 1],
+                 " then ", m.background_nodes[i], ")");
+  for (const auto& [values, name] :
+       {std::pair{&m.h_background, "h"}, std::pair{&m.spacing_background, "spacing"}})
+    for (std::size_t i = 0; i < b; ++i)
+      SPHFEM_CHECK(std::isfinite((*values)[i]) && (*values)[i] > 0, where, name, " holds ",
+                   (*values)[i], " at index ", i, " (expected > 0)");
+}
+
+void write_coupling(const H5::H5File& file, const Model& m) {
+  check_coupling(m, "coupling/");
+  const H5::Group coupling = file.createGroup("coupling");
+  write_array(coupling, "background_nodes", m.background_nodes);
+  write_attribute(write_array(coupling, "h", m.h_background), "units", "m");
+  write_attribute(write_array(coupling, "spacing", m.spacing_background), "units", "m");
 }
 
 // /particle_faces/<body>/<face>/{index, area} and the face group's attribute normal.
@@ -225,6 +256,7 @@ void write_model(const H5::H5File& file, const Model& m) {
   write_sets(file.createGroup("face_sets"), m.face_sets, 4);
   write_particles(file, m);
   write_particle_faces(file, m);
+  write_coupling(file, m);
 }
 
 // ---- reading ------------------------------------------------------------------------------
@@ -386,6 +418,31 @@ void read_particles(const H5::H5File& file, Model& m) {
                  m.body_names[m.body_p[i]], "', spacing 0: not an SPH body) at index ", i);
 }
 
+// /particles/interface, or 0 for every particle in a file written before it existed.
+void read_interface(const H5::H5File& file, Model& m) {
+  const std::size_t p = m.x_p.size();
+  if (!file.nameExists("particles") || !file.openGroup("particles").nameExists("interface")) {
+    m.interface_p.assign(p, 0);
+    return;
+  }
+  m.interface_p = read_array<Index>(file, "particles/interface");
+  SPHFEM_CHECK(m.interface_p.size() == p, "particles/interface has ", m.interface_p.size(),
+               " entries for ", p, " particles");
+  for (std::size_t i = 0; i < p; ++i)
+    SPHFEM_CHECK(m.interface_p[i] == 0 || m.interface_p[i] == 1, "particles/interface holds ",
+                 m.interface_p[i], " at index ", i, " (expected 0 or 1)");
+}
+
+// /coupling, or no background particles in a file written before it existed. Needs the nodes.
+void read_coupling(const H5::H5File& file, Model& m) {
+  if (!file.nameExists("coupling"))
+    return;
+  m.background_nodes = read_array<Index>(file, "coupling/background_nodes");
+  m.h_background = read_array<double>(file, "coupling/h");
+  m.spacing_background = read_array<double>(file, "coupling/spacing");
+  check_coupling(m, "coupling/");
+}
+
 // Paths (relative to `group`) of the particle faces below it: groups holding a dataset, or
 // nothing at all (then reported as missing their datasets); other groups are searched.
 void list_particle_faces(const H5::Group& group, const std::string& prefix,
@@ -469,7 +526,9 @@ Model read_model(const H5::H5File& file) {
       check_indices(q, n, "face set '" + name + "'");
   }
   read_particles(file, m);
+  read_interface(file, m);
   read_particle_faces(file, m);
+  read_coupling(file, m);
   return m;
 }
 

@@ -16,13 +16,20 @@
 //   /particles/density P, units "kg/m^3"
 //   /particles/h       P smoothing lengths, units "m"
 //   /particles/body_id P
+//   /particles/interface P, 1 if a background particle lies within h_i + h_b, else 0
 //   /particle_faces/<body>/<face>/index  particle indices of face "<body>/<face>"
 //   /particle_faces/<body>/<face>/area   their tributary areas, units "m^2"
 //   /particle_faces/<body>/<face>        attribute normal = outward unit normal (3 float64)
-// /particles, /bodies/spacing and /particle_faces were added without a version change: the
-// writer always writes them (P may be 0, /particle_faces may be empty), and a file without them
-// (written before SPH bodies or particle faces existed) reads as a model with no particles,
-// spacing 0 for every body and no particle faces.
+//   /coupling/background_nodes  B ascending node indices carrying background particles
+//   /coupling/h                 B their smoothing lengths, units "m"
+//   /coupling/spacing           B their lattice spacings Δp, units "m"
+// /particles, /bodies/spacing, /particle_faces, /coupling and /particles/interface were added
+// without a version change: the writer always writes them (P and B may be 0, /particle_faces may
+// be empty), and a file without them (written before SPH bodies, particle faces or coupling
+// existed) reads as a model with no particles, spacing 0 for every body, no particle faces, no
+// background particles and interface 0 for every particle. That is what such a file's case
+// makes: a case with attach or contact pairs has a different signature (mesher/mesher.hpp), so
+// its older model is stale and re-meshed.
 // A set's name maps to an HDF5 path below /node_sets or /face_sets ("bar/zmin" is dataset
 // zmin in group bar), a particle face's to a group below /particle_faces (group zmin in group
 // bar). Large datasets are chunked and compressed (shuffle + deflate).
@@ -37,13 +44,15 @@ namespace sphfem {
 // Writes `file` + ".tmp" and renames it over `file`, so a crash never leaves a torn file.
 // An empty Model::spacing_b is written as 0 for every body. Throws sphfem::Error naming the
 // file if it cannot be written or the model's arrays do not match (including a particle face
-// whose areas do not match its particles or whose indices are out of range).
+// whose areas do not match its particles or whose indices are out of range, or coupling arrays
+// that do not match). An empty Model::interface_p is written as 0 for every particle.
 void write_model_h5(const Model& m, const std::filesystem::path& file);
 
 // Reads and checks a model file (format, version, shapes, index ranges; particles: positive
 // finite mass, density and h, finite positions, bodies with a positive spacing; particle faces:
-// particle indices in range, one positive finite area each, a unit normal); any problem is a
-// sphfem::Error naming the file and what is wrong or missing.
+// particle indices in range, one positive finite area each, a unit normal; coupling: ascending
+// node indices in range with one positive finite h and spacing each, interface 0 or 1 per
+// particle); any problem is a sphfem::Error naming the file and what is wrong or missing.
 Model read_model_h5(const std::filesystem::path& file);
 
 } // namespace sphfem

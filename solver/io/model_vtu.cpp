@@ -78,6 +78,10 @@ vtkNew<vtkUnstructuredGrid> make_grid(const Model& m) {
                    return static_cast<vtkIdType>(m.hex_e[i / 8][i % 8]);
                  }));
   grid->GetPointData()->AddArray(int_array("body_id", m.body_n));
+  std::vector<int> background(m.x_n.size(), 0);
+  for (const Index i : m.background_nodes)
+    background.at(static_cast<std::size_t>(i)) = 1;
+  grid->GetPointData()->AddArray(int_array("background", background));
   grid->GetCellData()->AddArray(int_array("body_id", m.body_e));
   for (const auto& [name, nodes] : m.node_sets) {
     std::vector<int> flag(m.x_n.size(), 0);
@@ -97,6 +101,8 @@ vtkNew<vtkUnstructuredGrid> make_particle_grid(const Model& m) {
   grid->GetPointData()->AddArray(double_array("mass", m.m_p));
   grid->GetPointData()->AddArray(double_array("h", m.h_p));
   grid->GetPointData()->AddArray(double_array("density", m.rho_p));
+  grid->GetPointData()->AddArray(int_array(
+      "interface", m.interface_p.empty() ? std::vector<int>(m.x_p.size(), 0) : m.interface_p));
   for (const auto& [name, face] : m.particle_faces) {
     std::vector<int> flag(m.x_p.size(), 0);
     for (const Index i : face.particles)
@@ -159,7 +165,8 @@ void write_particles_vtu(const Model& m, const fs::path& file) {
     return;
   }
   const std::size_t p = m.x_p.size();
-  if (m.m_p.size() != p || m.rho_p.size() != p || m.h_p.size() != p || m.body_p.size() != p)
+  if (m.m_p.size() != p || m.rho_p.size() != p || m.h_p.size() != p || m.body_p.size() != p ||
+      (!m.interface_p.empty() && m.interface_p.size() != p))
     throw Error(detail::concat("cannot write model file ", file,
                                ": particle arrays do not match the ", p, " particle positions"));
   for (const auto& [name, face] : m.particle_faces)

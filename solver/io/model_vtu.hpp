@@ -1,8 +1,9 @@
-// model.vtu: the meshed Model as a VTK XML unstructured grid (hex cells, body ids and one
-// 0/1 point array "set:<body>/<face>" per node set) to inspect in ParaView; and, only when the
-// model has SPH particles, model_particles.vtu next to it: one VTK_VERTEX cell per particle,
-// point data body_id, mass (kg), h (m), density (kg/m³) and one 0/1 array "set:<body>/<face>"
-// per particle face. Verified by tests/io/model_h5_test.cpp.
+// model.vtu: the meshed Model as a VTK XML unstructured grid (hex cells, body ids, a 0/1 point
+// array "background" marking the nodes that carry background particles, and one 0/1 point array
+// "set:<body>/<face>" per node set) to inspect in ParaView; and, only when the model has SPH
+// particles, model_particles.vtu next to it: one VTK_VERTEX cell per particle, point data
+// body_id, mass (kg), h (m), density (kg/m³), "interface" (0/1, Model::interface_p) and one 0/1
+// array "set:<body>/<face>" per particle face. Verified by tests/io/model_h5_test.cpp.
 #pragma once
 
 #include "solver/state/model.hpp"

@@ -39,6 +39,15 @@ struct Model {
   // Lattice spacing Δp per body (0 for FE bodies), m.
   std::vector<double> spacing_b;
 
+  // Coupling (METHOD.md §4.1): the FE nodes that carry background particles (ascending), the
+  // smoothing length of each (that of the SPH body it is attached to, else the FE body's
+  // h_factor × element size) and its lattice spacing Δp (for the artificial stress and
+  // contact), m; and per particle 1 if a background particle lies within its 2h (interface).
+  std::vector<Index> background_nodes;
+  std::vector<double> h_background;
+  std::vector<double> spacing_background;
+  std::vector<int> interface_p;
+
   // Named faces, keyed "<body>/<face>" (e.g. "bar/zmin"): the nodes on the face and its
   // quadrilaterals with outward normals.
   std::map<std::string, std::vector<Index>> node_sets;

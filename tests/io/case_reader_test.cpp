@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -500,8 +501,8 @@ TEST(CaseReaderSph, RejectsKeysOfTheOtherMethod) {
       "case.yaml:10: bodies.bar.spacing: ",
       "only allowed for method sph (a fem body takes element_size)"));
   EXPECT_TRUE(reports(
-      error_of(edited(kMinimal, "element_size: 0.001", "element_size: 0.001\n    h_factor: 1.2")),
-      "case.yaml:10: bodies.bar.h_factor: ", "only allowed for method sph"));
+      error_of(edited(kMinimal, "element_size: 0.001", "element_size: 0.001\n    lattice: nodes")),
+      "case.yaml:10: bodies.bar.lattice: ", "only allowed for method sph"));
   EXPECT_TRUE(reports(
       error_of(edited(kMinimal, "method: fem", "method: dem")),
       "case.yaml:7: bodies.bar.method: ", "unknown method 'dem' (expected one of: fem, sph)"));
@@ -771,6 +772,172 @@ TEST_F(CaseFiles, RejectsNodeLatticeAndFacesOfGeometryFiles) {
   EXPECT_EQ(error_message([&] { read_case(file); }),
             file.string() + ":12: loads.0.body: 'bar' is an SPH body with a geometry file: "
                             "particle faces exist only for box bodies");
+}
+
+// ---- couplings: attach, contact, h_factor of FE bodies ------------------------------------
+
+// Two FE and two SPH bodies, no couplings yet; the tests append attach and contact lists.
+// Lines: 6 bar_fe, 7 bar_sph, 8 anvil, 9 ball, the appended lists from 10.
+const std::string kBodies = R"(name: coupled
+time: {end: 1.0e-5, output_interval: 1.0e-6}
+materials:
+  steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}
+bodies:
+  bar_fe: {method: fem, geometry: {box: {min: [0, 0, 5e-3], max: [4e-3, 4e-3, 8e-3]}}, element_size: 1e-3, material: steel}
+  bar_sph: {method: sph, geometry: {box: {min: [0, 0, 0], max: [4e-3, 4e-3, 5e-3]}}, spacing: 1e-3, material: steel}
+  anvil: {method: fem, geometry: {box: {min: [0, 0, 0.02], max: [0.01, 0.01, 0.03]}}, element_size: 2e-3, material: steel}
+  ball: {method: sph, geometry: {box: {min: [0, 0, -0.02], max: [0.01, 0.01, -0.01]}}, spacing: 1e-3, material: steel}
+)";
+
+TEST(CaseReaderCoupling, ReadsAttachAndContact) {
+  const Case c = read_case_text(kBodies + R"(attach:
+  - {bodies: [bar_sph, bar_fe]}
+contact:
+  - {bodies: [anvil, bar_fe], penalty: 1.0e11, exponent: 3}
+  - bodies: [ball, anvil]
+    penalty: 2.0e11
+)",
+                                "case.yaml");
+  ASSERT_EQ(c.attachments.size(), 1u);
+  EXPECT_EQ(c.attachments[0].fem_body, "bar_fe"); // either order in the file
+  EXPECT_EQ(c.attachments[0].sph_body, "bar_sph");
+  ASSERT_EQ(c.contacts.size(), 2u);
+  EXPECT_EQ(c.contacts[0].bodies, (std::array<std::string, 2>{"anvil", "bar_fe"}));
+  EXPECT_NEAR(c.contacts[0].penalty, 1.0e11, 1.0);
+  EXPECT_NEAR(c.contacts[0].exponent, 3, 1e-15);
+  EXPECT_EQ(c.contacts[1].bodies, (std::array<std::string, 2>{"ball", "anvil"}));
+  EXPECT_NEAR(c.contacts[1].penalty, 2.0e11, 1.0);
+  EXPECT_NEAR(c.contacts[1].exponent, 2, 1e-15); // the default
+
+  const Case none = read_case_text(kBodies + "attach: []\ncontact: []\n", "case.yaml");
+  EXPECT_TRUE(none.attachments.empty());
+  EXPECT_TRUE(none.contacts.empty());
+}
+
+// An FE body's h_factor sets its background particles' h (h_factor · element_size): any value
+// > 0, default 1.2 (the SPH range [1, 2] is about neighbour counts, which do not apply).
+TEST(CaseReaderCoupling, ReadsHFactorOfFemBodies) {
+  const Case c = read_case_text(
+      edited(kBodies, "element_size: 2e-3,", "element_size: 2e-3, h_factor: 2.5,"), "case.yaml");
+  EXPECT_NEAR(c.bodies[0].h_factor, 1.2, 1e-15);
+  EXPECT_NEAR(c.bodies[2].h_factor, 2.5, 1e-15);
+  for (const std::string bad : {"0", "-1.2"})
+    EXPECT_EQ(error_of(edited(kMinimal, "element_size: 0.001",
+                              "element_size: 0.001\n    h_factor: " + bad)),
+              "case.yaml:10: bodies.bar.h_factor: must be > 0, got " + bad);
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, "element_size: 0.001", "element_size: 0.001\n    h_factor: big")),
+      "case.yaml:10: bodies.bar.h_factor: ", "must be a number, got big"));
+}
+
+// The error that reading kBodies with `lists` appended gives.
+std::string coupling_error(const std::string& lists) {
+  return error_of(kBodies + lists);
+}
+
+TEST(CaseReaderCoupling, RejectsMalformedPairs) {
+  for (const std::string list : {"attach", "contact"}) {
+    SCOPED_TRACE(list);
+    const std::string extra = list == "contact" ? ", penalty: 1e11" : "";
+    const auto item = [&](const std::string& bodies) {
+      return coupling_error(list + ":\n  - {" + bodies + extra + "}\n");
+    };
+    EXPECT_EQ(coupling_error(list + ": {bodies: [bar_fe, bar_sph]}\n"),
+              "case.yaml:10: " + list + ": must be a list, got a map");
+    EXPECT_TRUE(reports(item("colour: red, bodies: [bar_fe, bar_sph]"),
+                        "case.yaml:11: " + list + ".0.colour: ", "unknown key (expected one of: "));
+    EXPECT_TRUE(
+        reports(coupling_error(list + ":\n  - {" + extra.substr(extra.empty() ? 0 : 2) + "}\n"),
+                "case.yaml:11: " + list + ".0.bodies: ", "missing key (the two bodies [a, b])"));
+    EXPECT_EQ(item("bodies: [bar_fe]"), "case.yaml:11: " + list +
+                                            ".0.bodies: must be a list of 2 body names [a, b], "
+                                            "got a list of 1");
+    EXPECT_TRUE(reports(item("bodies: bar_fe"), "case.yaml:11: " + list + ".0.bodies: ",
+                        "must be a list of 2 body names [a, b], got bar_fe"));
+    EXPECT_TRUE(reports(item("bodies: [bar_fe, bar_sph, ball]"),
+                        "case.yaml:11: " + list + ".0.bodies: ", "got a list of 3"));
+    EXPECT_EQ(item("bodies: [bar_fe, nobody]"),
+              "case.yaml:11: " + list +
+                  ".0.bodies.1: unknown body 'nobody' (expected one of: bar_fe, bar_sph, anvil, "
+                  "ball)");
+    EXPECT_TRUE(reports(item("bodies: [[bar_fe], bar_sph]"),
+                        "case.yaml:11: " + list + ".0.bodies.0: ", "must be a string"));
+    EXPECT_EQ(item("bodies: [bar_sph, bar_sph]"),
+              "case.yaml:11: " + list +
+                  ".0.bodies: must name two different bodies, got 'bar_sph' twice");
+  }
+}
+
+TEST(CaseReaderCoupling, RejectsRepeatedPairs) {
+  EXPECT_EQ(coupling_error("attach:\n  - {bodies: [bar_fe, bar_sph]}\n"
+                           "  - {bodies: [bar_sph, bar_fe]}\n"),
+            "case.yaml:12: attach.1.bodies: the pair 'bar_sph', 'bar_fe' is already given at "
+            "case.yaml:11 (attach.0)");
+  EXPECT_EQ(coupling_error("contact:\n  - {bodies: [anvil, ball], penalty: 1e11}\n"
+                           "  - {bodies: [bar_fe, ball], penalty: 1e11}\n"
+                           "  - {bodies: [ball, anvil], penalty: 2e11}\n"),
+            "case.yaml:13: contact.2.bodies: the pair 'ball', 'anvil' is already given at "
+            "case.yaml:11 (contact.0)");
+}
+
+TEST(CaseReaderCoupling, AttachesOneFemBodyToOneSphBody) {
+  EXPECT_EQ(coupling_error("attach:\n  - {bodies: [bar_fe, anvil]}\n"),
+            "case.yaml:11: attach.0.bodies: must name one fem body and one sph body, got 'bar_fe' "
+            "and 'anvil', both fem");
+  EXPECT_TRUE(reports(coupling_error("attach:\n  - {bodies: [ball, bar_sph]}\n"),
+                      "case.yaml:11: attach.0.bodies: ", "got 'ball' and 'bar_sph', both sph"));
+  // An SPH body joins at most one FE body; an FE body may hold several SPH bodies.
+  EXPECT_EQ(coupling_error("attach:\n  - {bodies: [bar_fe, bar_sph]}\n"
+                           "  - {bodies: [bar_sph, anvil]}\n"),
+            "case.yaml:12: attach.1.bodies: sph body 'bar_sph' is already attached to 'bar_fe' "
+            "at case.yaml:11 (an sph body attaches to at most one fem body)");
+  const Case two = read_case_text(
+      kBodies + "attach:\n  - {bodies: [bar_fe, bar_sph]}\n  - {bodies: [ball, bar_fe]}\n",
+      "case.yaml");
+  ASSERT_EQ(two.attachments.size(), 2u);
+  EXPECT_EQ(two.attachments[1].fem_body, "bar_fe");
+  EXPECT_EQ(two.attachments[1].sph_body, "ball");
+}
+
+TEST(CaseReaderCoupling, RejectsBadContactParameters) {
+  const auto contact = [](const std::string& parameters) {
+    return coupling_error("contact:\n  - {bodies: [bar_fe, anvil]" + parameters + "}\n");
+  };
+  EXPECT_TRUE(reports(contact(""),
+                      "case.yaml:11: contact.0.penalty: ", "missing key (penalty pressure K, Pa)"));
+  EXPECT_EQ(contact(", penalty: 0"), "case.yaml:11: contact.0.penalty: must be > 0 Pa, got 0");
+  EXPECT_TRUE(
+      reports(contact(", penalty: -1e11"), "case.yaml:11: contact.0.penalty: ", "must be > 0 Pa"));
+  EXPECT_TRUE(reports(contact(", penalty: stiff"),
+                      "case.yaml:11: contact.0.penalty: ", "must be a number, got stiff"));
+  EXPECT_EQ(contact(", penalty: 1e11, exponent: 0"),
+            "case.yaml:11: contact.0.exponent: must be > 0, got 0");
+  EXPECT_TRUE(reports(contact(", penalty: 1e11, exponent: -2"),
+                      "case.yaml:11: contact.0.exponent: ", "must be > 0"));
+  const Case c = read_case_text(
+      kBodies + "contact:\n  - {bodies: [bar_fe, anvil], penalty: 1e11, exponent: 1.5}\n",
+      "case.yaml");
+  EXPECT_NEAR(c.contacts[0].exponent, 1.5, 1e-15);
+}
+
+// Attached bodies are one body, whose entities never meet through contact (METHOD.md §4.3).
+TEST(CaseReaderCoupling, RejectsContactBetweenAttachedBodies) {
+  EXPECT_EQ(coupling_error("attach:\n  - {bodies: [bar_fe, bar_sph]}\n"
+                           "contact:\n  - {bodies: [bar_sph, bar_fe], penalty: 1e11}\n"),
+            "case.yaml:13: contact.0.bodies: 'bar_sph' and 'bar_fe' are attached (one body): they "
+            "cannot also be in contact");
+}
+
+TEST(CaseReaderCoupling, OverridesCouplingKeys) {
+  const std::string contact = "contact:\n  - {bodies: [bar_fe, anvil], penalty: 1e11}\n";
+  const Case c = read_case_text(kBodies + contact, "case.yaml",
+                                {"contact.0.penalty=5e11", "bodies.anvil.h_factor=2"});
+  EXPECT_NEAR(c.contacts[0].penalty, 5e11, 1.0);
+  EXPECT_NEAR(c.bodies[2].h_factor, 2, 1e-15);
+  EXPECT_EQ(error_of(kBodies + contact, {"contact.0.exponent=-1"}),
+            "--set contact.0.exponent: contact.0.exponent: must be > 0, got -1");
+  EXPECT_TRUE(reports(error_of(kBodies, {"attach=[{bodies: [bar_fe, anvil]}]"}),
+                      "--set attach: attach.0.bodies: ", "one fem body and one sph body"));
 }
 
 TEST(CaseReaderOverrides, AppliesScalarOverride) {

@@ -1,6 +1,6 @@
 // Tests of solver/io/model_h5.hpp and model_vtu.hpp: exact round trips of model.h5 (with and
 // without SPH particles and their faces), clear errors (naming the file) for damaged or foreign
-// files, files from before particles or particle faces existed, and model.vtu and
+// files, files from before particles, particle faces or coupling tags existed, and model.vtu and
 // model_particles.vtu read back with VTK.
 #include "solver/io/model_h5.hpp"
 #include "solver/io/model_vtu.hpp"
@@ -33,7 +33,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // A structured nx × ny × nz hex grid with irrational coordinates, split into two bodies at
-// half height, with named node and face sets on its bottom and right faces.
+// half height, with named node and face sets on its bottom and right faces, and background
+// particles on every third node (1, 4, 7, …) with irrational h and spacing.
 Model grid_model(int nx, int ny, int nz) {
   Model m;
   m.body_names = {"bar", "anvil"};
@@ -69,13 +70,18 @@ Model grid_model(int nx, int ny, int nz) {
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   }
+  for (Index n = 1; n < m.node_count(); n += 3) {
+    m.background_nodes.push_back(n);
+    m.h_background.push_back(1e-3 * (1 + std::sqrt(n) / 10));
+    m.spacing_background.push_back(std::numbers::pi * 1e-3 / (1 + n % 2));
+  }
   return m;
 }
 
 // grid_model with a third body "ball" of `count` SPH particles: irrational positions, masses,
 // densities and smoothing lengths that differ per particle; and two particle faces, "ball/zmin"
 // (every other particle, normal −z) and "ball/side" (particles 1, 4, 7, …, an oblique normal;
-// empty when count = 1), with irrational areas.
+// empty when count = 1), with irrational areas. Particles 0, 3, 6, … are at the interface.
 Model particle_model(int count) {
   Model m = grid_model(3, 2, 2);
   m.body_names.push_back("ball");
@@ -87,6 +93,7 @@ Model particle_model(int count) {
     m.rho_p.push_back(7830 + std::cos(t));
     m.h_p.push_back(1.2e-3 * (1 + 1 / t));
     m.body_p.push_back(2);
+    m.interface_p.push_back(i % 3 == 0 ? 1 : 0);
   }
   ParticleFace& bottom = m.particle_faces["ball/zmin"];
   bottom.normal = -Vec3::UnitZ();
@@ -153,6 +160,10 @@ void expect_same(const Model& a, const Model& b) {
   EXPECT_EQ(a.rho_p, b.rho_p);
   EXPECT_EQ(a.h_p, b.h_p);
   EXPECT_EQ(a.body_p, b.body_p);
+  EXPECT_EQ(a.background_nodes, b.background_nodes);
+  EXPECT_EQ(a.h_background, b.h_background); // bit for bit
+  EXPECT_EQ(a.spacing_background, b.spacing_background);
+  EXPECT_EQ(a.interface_p, b.interface_p);
   ASSERT_EQ(a.particle_faces.size(), b.particle_faces.size());
   for (const auto& [name, face] : a.particle_faces) {
     ASSERT_TRUE(b.particle_faces.contains(name)) << name;
@@ -305,6 +316,108 @@ TEST_F(ModelFiles, MismatchedParticleArraysAreNotWritten) {
   m = particle_model(4);
   m.spacing_b.pop_back();
   EXPECT_THROW(write_model_h5(m, path("model.h5")), Error);
+}
+
+// ---- coupling tags ----
+
+TEST_F(ModelFiles, CouplingIsStoredAsDocumented) {
+  const Model m = particle_model(5); // background nodes 1, 4, …, 34 of 36
+  write_model_h5(m, path("model.h5"));
+  const H5::H5File h5(path("model.h5").string(), H5F_ACC_RDONLY);
+  const auto read_ints = [&](const std::string& name) {
+    const H5::DataSet d = h5.openDataSet(name);
+    EXPECT_EQ(d.getTypeClass(), H5T_INTEGER) << name;
+    std::vector<int> values(static_cast<std::size_t>(d.getSpace().getSimpleExtentNpoints()));
+    d.read(values.data(), H5::PredType::NATIVE_INT);
+    return values;
+  };
+  const auto read_doubles = [&](const std::string& name) {
+    const H5::DataSet d = h5.openDataSet(name);
+    std::vector<double> values(static_cast<std::size_t>(d.getSpace().getSimpleExtentNpoints()));
+    d.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+    return values;
+  };
+  const auto units = [&](const std::string& name) {
+    std::string text;
+    const H5::Attribute a = h5.openDataSet(name).openAttribute("units");
+    a.read(a.getStrType(), text);
+    return text;
+  };
+  EXPECT_EQ(read_ints("coupling/background_nodes"), m.background_nodes);
+  EXPECT_EQ(m.background_nodes.size(), 12u);
+  EXPECT_EQ(read_doubles("coupling/h"), m.h_background);
+  EXPECT_EQ(read_doubles("coupling/spacing"), m.spacing_background);
+  EXPECT_EQ(units("coupling/h"), "m");
+  EXPECT_EQ(units("coupling/spacing"), "m");
+  EXPECT_EQ(read_ints("particles/interface"), (std::vector<int>{1, 0, 0, 1, 0}));
+}
+
+// An uncoupled model: no background nodes (empty datasets), interface 0 everywhere.
+TEST_F(ModelFiles, UncoupledModelRoundTrips) {
+  Model m = particle_model(4);
+  m.background_nodes.clear();
+  m.h_background.clear();
+  m.spacing_background.clear();
+  m.interface_p.assign(4, 0);
+  write_model_h5(m, path("model.h5"));
+  expect_same(read_model_h5(path("model.h5")), m);
+  m.interface_p.clear(); // written as zeros
+  write_model_h5(m, path("model.h5"));
+  EXPECT_EQ(read_model_h5(path("model.h5")).interface_p, (std::vector<int>(4, 0)));
+}
+
+// A file written before coupling tags existed has neither /coupling nor /particles/interface:
+// it reads as uncoupled, which is what its case (which could not name couplings) makes.
+TEST_F(ModelFiles, FileWithoutCouplingReadsAsUncoupled) {
+  const fs::path file = path("old.h5");
+  write_model_h5(particle_model(5), file);
+  {
+    H5::H5File h5(file.string(), H5F_ACC_RDWR);
+    h5.unlink("coupling");
+    h5.unlink("particles/interface");
+  }
+  const Model m = read_model_h5(file);
+  EXPECT_EQ(m.particle_count(), 5);
+  EXPECT_TRUE(m.background_nodes.empty());
+  EXPECT_TRUE(m.h_background.empty());
+  EXPECT_TRUE(m.spacing_background.empty());
+  EXPECT_EQ(m.interface_p, (std::vector<int>(5, 0)));
+}
+
+TEST_F(ModelFiles, BadCouplingIsNotWritten) {
+  const auto expect_write_error = [&](const Model& m, const std::string& fragment) {
+    try {
+      write_model_h5(m, path("model.h5"));
+      ADD_FAILURE() << "no error for " << fragment;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(path("model.h5")));
+  };
+  Model m = particle_model(5);
+  m.h_background.pop_back();
+  expect_write_error(m, "coupling/h has 11 entries for 12 background nodes");
+  m = particle_model(5);
+  m.spacing_background.push_back(1e-3);
+  expect_write_error(m, "coupling/spacing has 13 entries for 12 background nodes");
+  m = particle_model(5);
+  m.background_nodes.back() = 36;
+  expect_write_error(m, "coupling/background_nodes holds index 36 outside [0, 36)");
+  m = particle_model(5);
+  std::swap(m.background_nodes[2], m.background_nodes[3]);
+  expect_write_error(m, "coupling/background_nodes is not ascending at index 3 (10 then 7)");
+  m = particle_model(5);
+  m.background_nodes[1] = m.background_nodes[0];
+  expect_write_error(m, "not ascending at index 1 (1 then 1)");
+  m = particle_model(5);
+  m.h_background[4] = 0;
+  expect_write_error(m, "coupling/h holds 0 at index 4 (expected > 0)");
+  m = particle_model(5);
+  m.spacing_background[0] = std::numeric_limits<double>::quiet_NaN();
+  expect_write_error(m, "coupling/spacing holds nan at index 0");
+  m = particle_model(5);
+  m.interface_p.pop_back();
+  expect_write_error(m, "there are 4 interface flags for 5 particles");
 }
 
 TEST_F(ModelFiles, OverwritesAnExistingFile) {
@@ -590,6 +703,40 @@ TEST_F(DamagedParticles, MissingParticleDatasetIsNamed) {
                     "missing dataset 'particles/h'");
 }
 
+TEST_F(DamagedParticles, DamagedCouplingIsAnError) {
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "coupling/h", {2}, {1e-3, 1e-3});
+                    }),
+                    "coupling/h has 2 entries for 12 background nodes");
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "coupling/spacing", 5, -1.0); }),
+      "coupling/spacing holds -1 at index 5 (expected > 0)");
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "coupling/background_nodes", 11, 99); }),
+      "coupling/background_nodes holds index 99 outside [0, 36)");
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "coupling/background_nodes", 3, 2); }),
+      "coupling/background_nodes is not ascending at index 3 (7 then 2)");
+  expect_read_error(damaged_particles([](H5::H5File& h5) { h5.unlink("coupling/h"); }),
+                    "missing dataset 'coupling/h'");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      replace(h5, "coupling/background_nodes", {12}, std::vector<double>(12, 1));
+                    }),
+                    "dataset 'coupling/background_nodes' has the wrong type (expected integer)");
+  expect_read_error(
+      damaged_particles([](H5::H5File& h5) { set_value(h5, "particles/interface", 1, 2); }),
+      "particles/interface holds 2 at index 1 (expected 0 or 1)");
+  expect_read_error(damaged_particles([](H5::H5File& h5) {
+                      h5.unlink("particles/interface");
+                      const hsize_t four = 4;
+                      const int flags[4] = {0, 1, 0, 1};
+                      h5.createDataSet("particles/interface", H5::PredType::STD_I32LE,
+                                       H5::DataSpace(1, &four))
+                          .write(flags, H5::PredType::NATIVE_INT);
+                    }),
+                    "particles/interface has 4 entries for 5 particles");
+}
+
 // ---- model.vtu ------------------------------------------------------------------------------
 
 TEST_F(ModelFiles, VtuReadsBackWithHexCellsBodyIdsAndSets) {
@@ -622,6 +769,11 @@ TEST_F(ModelFiles, VtuReadsBackWithHexCellsBodyIdsAndSets) {
     EXPECT_EQ(point_body->GetTuple1(i), m.body_n[i]);
   for (Index e = 0; e < m.element_count(); ++e)
     EXPECT_EQ(cell_body->GetTuple1(e), m.body_e[e]);
+  vtkDataArray* background = grid->GetPointData()->GetArray("background");
+  ASSERT_NE(background, nullptr);
+  EXPECT_EQ(background->GetDataType(), VTK_INT);
+  for (Index i = 0; i < m.node_count(); ++i)
+    EXPECT_EQ(background->GetTuple1(i), i % 3 == 1 ? 1 : 0) << "node " << i; // as grid_model
   for (const auto& [name, nodes] : m.node_sets) {
     vtkDataArray* flag = grid->GetPointData()->GetArray(("set:" + name).c_str());
     ASSERT_NE(flag, nullptr) << name;
@@ -666,6 +818,11 @@ TEST_F(ModelFiles, ParticleVtuReadsBackWithVertexCellsAndArrays) {
   ASSERT_NE(body, nullptr);
   for (Index i = 0; i < m.particle_count(); ++i)
     EXPECT_EQ(body->GetTuple1(i), m.body_p[i]);
+  vtkDataArray* interface = grid->GetPointData()->GetArray("interface");
+  ASSERT_NE(interface, nullptr);
+  EXPECT_EQ(interface->GetDataType(), VTK_INT);
+  for (Index i = 0; i < m.particle_count(); ++i)
+    EXPECT_EQ(interface->GetTuple1(i), m.interface_p[i]);
   // One 0/1 array per particle face.
   ASSERT_EQ(m.particle_faces.size(), 2u);
   for (const auto& [name, face] : m.particle_faces) {

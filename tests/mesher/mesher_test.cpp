@@ -521,6 +521,49 @@ TEST(MeshSignature, ChangesWithSphInputs) {
   }
 }
 
+// Attachments and contact pairs change the interface tags, so the signature; their order, the
+// order within a pair, the penalty and the exponent do not. An FE body's h_factor counts only
+// where it is in contact (elsewhere it changes nothing).
+TEST(MeshSignature, ChangesWithCouplings) {
+  Case base = case_of({box_body("plate", {0, 0, 0}, {0.1, 0.1, 0.01}, 0.002),
+                       sph_box_body("core", {0, 0, 0.01}, {0.01, 0.01, 0.02}, 0.001),
+                       box_body("rod", {0, 0, 0.1}, {0.01, 0.01, 0.12}, 0.002)});
+  const std::string uncoupled = mesh_signature(base);
+  Case plate_h = base;
+  plate_h.bodies[0].h_factor = 2;
+  EXPECT_EQ(mesh_signature(plate_h), uncoupled);
+
+  base.attachments.push_back({"plate", "core"});
+  base.contacts.push_back({{"rod", "plate"}, 1e11, 2});
+  base.contacts.push_back({{"rod", "core"}, 1e11, 2});
+  const std::string s = mesh_signature(base);
+  EXPECT_NE(s, uncoupled);
+  EXPECT_TRUE(s.ends_with("attach fem=plate sph=core\ncontact core rod\ncontact plate rod\n")) << s;
+  EXPECT_NE(s.find("body plate method=fem box min=0,0,0 max=0.1,0.1,0.01 element_size=0.002 "
+                   "h_factor=1.2\n"),
+            std::string::npos)
+      << s;
+
+  Case other = base; // keys that do not change the tags
+  std::swap(other.contacts[0], other.contacts[1]);
+  std::swap(other.contacts[0].bodies[0], other.contacts[0].bodies[1]);
+  other.contacts[1].penalty = 5e11;
+  other.contacts[1].exponent = 4;
+  EXPECT_EQ(mesh_signature(other), s);
+
+  const auto changed = [&](auto edit) {
+    Case c = base;
+    edit(c);
+    return mesh_signature(c) != s;
+  };
+  EXPECT_TRUE(changed([](Case& c) { c.attachments.clear(); }));
+  EXPECT_TRUE(changed([](Case& c) { c.contacts.pop_back(); }));
+  EXPECT_TRUE(changed([](Case& c) { c.contacts.erase(c.contacts.begin()); }));
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[0].h_factor = 1.5; })); // plate: in contact
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[1].h_factor = 1.5; })); // core: SPH h
+  EXPECT_TRUE(changed([](Case& c) { c.bodies[2].h_factor = 1.5; })); // rod: in contact
+}
+
 void expect_error_naming(const Case& c, const std::string& body) {
   try {
     mesh_case(c);
