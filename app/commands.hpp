@@ -1,5 +1,5 @@
-// The `sphfem` command line: git-style subcommands (mesh, solve, run), each with --help.
-// Parses arguments, reads and validates the case before anything is written, and turns any
+// The `sphfem` command line: git-style subcommands (mesh, solve, run, post history), each with
+// --help. Parses arguments, reads and validates the case before anything is written, and turns any
 // sphfem::Error into one line on stderr and a non-zero exit code.
 #pragma once
 

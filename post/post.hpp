@@ -19,6 +19,8 @@ struct History {
   std::size_t rows() const { return columns.empty() ? 0 : values.at(columns[0]).size(); }
 };
 
+// A header of unique column names, then rows of as many numbers; blank lines, lines starting
+// with # and a Windows line end are skipped, an empty cell is NaN (a gap). Errors name file:line.
 History read_history_csv(const std::filesystem::path& file);
 
 // (time s, frame file as written in the collection, relative to the .pvd's folder).

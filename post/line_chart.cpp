@@ -1,0 +1,332 @@
+#include "post/line_chart.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkStdString.h>
+#include <vtkTextProperty.h>
+#include <vtkTextRenderer.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace sphfem::post {
+
+namespace {
+
+constexpr Rgb white{255, 255, 255}, black{0, 0, 0}, grid_grey{225, 225, 225};
+constexpr int dpi = 72; // font sizes are then in pixels
+
+struct Canvas {
+  int width, height;
+  std::vector<unsigned char> rgb;
+
+  Canvas(int w, int h) : width(w), height(h), rgb(std::size_t(w) * h * 3, 255) {}
+
+  void blend(int x, int y, Rgb c, double alpha) {
+    if (x < 0 || y < 0 || x >= width || y >= height || alpha <= 0)
+      return;
+    unsigned char* p = &rgb[(std::size_t(y) * width + x) * 3];
+    const double a = std::min(alpha, 1.0);
+    p[0] = static_cast<unsigned char>(std::lround(p[0] + a * (c.r - p[0])));
+    p[1] = static_cast<unsigned char>(std::lround(p[1] + a * (c.g - p[1])));
+    p[2] = static_cast<unsigned char>(std::lround(p[2] + a * (c.b - p[2])));
+  }
+  void fill(int x0, int y0, int x1, int y1, Rgb c) { // inclusive corners
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        blend(x, y, c, 1.0);
+  }
+  void frame(int x0, int y0, int x1, int y1, Rgb c) {
+    fill(x0, y0, x1, y0, c);
+    fill(x0, y1, x1, y1, c);
+    fill(x0, y0, x0, y1, c);
+    fill(x1, y0, x1, y1, c);
+  }
+};
+
+// Text through VTK's FreeType renderer: CPU rasterisation into an RGBA vtkImageData whose
+// extent is placed relative to the anchor the justification names.
+struct Text {
+  vtkNew<vtkTextProperty> property;
+  vtkTextRenderer* renderer = vtkTextRenderer::GetInstance();
+
+  // h: VTK_TEXT_LEFT|CENTERED|RIGHT, v: VTK_TEXT_BOTTOM|CENTERED|TOP, angle in degrees.
+  Text(int size, int h, int v, double angle = 0, bool bold = false) {
+    SPHFEM_CHECK(renderer, "VTK has no text renderer (RenderingFreeType not linked)");
+    property->SetFontFamilyToArial();
+    property->SetFontSize(size);
+    property->SetColor(0, 0, 0);
+    property->SetJustification(h);
+    property->SetVerticalJustification(v);
+    property->SetOrientation(angle);
+    property->SetBold(bold);
+  }
+  // {xmin, xmax, ymin, ymax} around the anchor, y up.
+  std::array<int, 4> box(const std::string& s) {
+    std::array<int, 4> b{0, 0, 0, 0};
+    if (!s.empty())
+      renderer->GetBoundingBox(property, vtkStdString(s), b.data(), dpi, vtkTextRenderer::FreeType);
+    return b;
+  }
+  void draw(Canvas& canvas, const std::string& s, int x, int y) {
+    if (s.empty())
+      return;
+    vtkNew<vtkImageData> image;
+    SPHFEM_CHECK(renderer->RenderString(property, vtkStdString(s), image, nullptr, dpi,
+                                        vtkTextRenderer::FreeType),
+                 "cannot render the text \"", s, "\"");
+    int e[6];
+    image->GetExtent(e);
+    for (int j = e[2]; j <= e[3]; ++j)
+      for (int i = e[0]; i <= e[1]; ++i) {
+        const auto* p = static_cast<unsigned char*>(image->GetScalarPointer(i, j, 0));
+        canvas.blend(x + i, y - j, {p[0], p[1], p[2]}, p[3] / 255.0);
+      }
+  }
+};
+
+// Coverage of one series' polyline: the anti-aliased line is the set of pixels within
+// width/2 of a segment, with a one-pixel ramp; max over segments, so joints do not darken.
+struct Coverage {
+  int width, height;
+  std::vector<float> alpha;
+
+  Coverage(int w, int h) : width(w), height(h), alpha(std::size_t(w) * h, 0.f) {}
+
+  // Segment a→b; `s0` is the arc length at a (for dashes); pixels outside `clip` stay empty.
+  void segment(double ax, double ay, double bx, double by, double s0, const LineStyle& style,
+               const LineChart::Rect& clip) {
+    const double hw = style.width / 2, dash = 9, period = 14;
+    const double dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
+    const int x0 = std::max(clip.left, int(std::floor(std::min(ax, bx) - hw - 1)));
+    const int x1 = std::min(clip.right, int(std::ceil(std::max(ax, bx) + hw + 1)));
+    const int y0 = std::max(clip.top, int(std::floor(std::min(ay, by) - hw - 1)));
+    const int y1 = std::min(clip.bottom, int(std::ceil(std::max(ay, by) + hw + 1)));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const double t = len2 > 0 ? std::clamp(((x - ax) * dx + (y - ay) * dy) / len2, 0., 1.) : 0;
+        if (style.dashed && std::fmod(s0 + t * std::sqrt(len2), period) > dash)
+          continue;
+        const double d = std::hypot(x - ax - t * dx, y - ay - t * dy);
+        const double a = std::clamp(hw + 0.5 - d, 0., 1.);
+        float& slot = alpha[std::size_t(y) * width + x];
+        slot = std::max(slot, float(a));
+      }
+  }
+  double sum(int x0, int y0, int x1, int y1) const {
+    double s = 0;
+    for (int y = std::max(y0, 0); y <= std::min(y1, height - 1); ++y)
+      for (int x = std::max(x0, 0); x <= std::min(x1, width - 1); ++x)
+        s += alpha[std::size_t(y) * width + x];
+    return s;
+  }
+};
+
+double nice(double x) { // the 1, 2, 5 or 10 × 10^k nearest to x
+  const double e = std::pow(10.0, std::floor(std::log10(x))), f = x / e;
+  return (f < 1.5 ? 1 : f < 3 ? 2 : f < 7 ? 5 : 10) * e;
+}
+
+std::string tick_label(double v, double step) {
+  if (std::abs(v) < 1e-9 * step)
+    v = 0;
+  char buffer[64];
+  const double largest = std::max(std::abs(v), step);
+  if (largest >= 1e6 || step < 1e-4)
+    std::snprintf(buffer, sizeof buffer, "%.4g", v);
+  else
+    std::snprintf(buffer, sizeof buffer, "%.*f",
+                  std::max(0, int(-std::floor(std::log10(step) + 1e-9))), v);
+  std::string s = buffer;
+  return s[0] == '-' ? "\u2212" + s.substr(1) : s; // a typographic minus
+}
+
+} // namespace
+
+LineChart::LineChart(int width, int height) : width_(width), height_(height) {
+  SPHFEM_CHECK(width >= 200 && height >= 150 && width <= 10000 && height <= 10000, "chart size ",
+               width, "x", height, ": expected 200x150 to 10000x10000 pixels");
+}
+
+void LineChart::add_series(std::string label, std::vector<double> x, std::vector<double> y,
+                           LineStyle style) {
+  SPHFEM_CHECK(x.size() == y.size(), "series ", label, ": ", x.size(), " x values but ", y.size(),
+               " y values");
+  series_.push_back({std::move(label), std::move(x), std::move(y), style});
+}
+
+LineChart::Rect LineChart::plot_area(int width, int height) {
+  return {90, 40, width - 25, height - 60};
+}
+
+Rgb LineChart::palette(std::size_t i) {
+  static constexpr Rgb colours[] = {{0, 114, 178}, {213, 94, 0},   {0, 158, 115}, {204, 121, 167},
+                                    {230, 159, 0}, {86, 180, 233}, {240, 228, 66}};
+  return colours[i % std::size(colours)];
+}
+
+namespace {
+// The nice range covering every finite value of `values` (of all series).
+template <class Values> auto axis_for(const Values& values) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const std::vector<double>* v : values)
+    for (double x : *v)
+      if (std::isfinite(x)) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+  if (!(lo <= hi))
+    lo = 0, hi = 1;
+  if (hi - lo <= 1e-12 * std::max(std::abs(lo), std::abs(hi))) { // constant: centre it
+    const double half = lo == 0 ? 1 : 0.1 * std::abs(lo);
+    lo -= half;
+    hi += half;
+  }
+  const double step = nice((hi - lo) / 6); // 5 to 10 intervals
+  return std::array<double, 3>{std::floor(lo / step + 1e-9) * step,
+                               std::ceil(hi / step - 1e-9) * step, step};
+}
+} // namespace
+
+LineChart::Axis LineChart::x_axis() const {
+  std::vector<const std::vector<double>*> v;
+  for (const auto& s : series_)
+    v.push_back(&s.x);
+  const auto a = axis_for(v);
+  return {a[0], a[1], a[2]};
+}
+
+LineChart::Axis LineChart::y_axis() const {
+  std::vector<const std::vector<double>*> v;
+  for (const auto& s : series_)
+    v.push_back(&s.y);
+  const auto a = axis_for(v);
+  return {a[0], a[1], a[2]};
+}
+
+void LineChart::pixel(double x, double y, double& px, double& py) const {
+  const Rect r = plot_area(width_, height_);
+  const Axis ax = x_axis(), ay = y_axis();
+  px = r.left + (x - ax.min) / (ax.max - ax.min) * (r.right - r.left);
+  py = r.bottom - (y - ay.min) / (ay.max - ay.min) * (r.bottom - r.top);
+}
+
+std::vector<unsigned char> LineChart::render() const {
+  Canvas canvas(width_, height_);
+  const Rect r = plot_area(width_, height_);
+  const Axis ax = x_axis(), ay = y_axis();
+
+  // Grid and tick labels.
+  Text x_ticks(12, VTK_TEXT_CENTERED, VTK_TEXT_TOP), y_ticks(12, VTK_TEXT_RIGHT, VTK_TEXT_CENTERED);
+  for (int k = 0; ax.min + k * ax.step <= ax.max + 1e-9 * ax.step; ++k) {
+    const double v = ax.min + k * ax.step;
+    double px, py;
+    pixel(v, ay.min, px, py);
+    const int x = int(std::lround(px));
+    canvas.fill(x, r.top, x, r.bottom, grid_grey);
+    canvas.fill(x, r.bottom, x, r.bottom + 5, black);
+    x_ticks.draw(canvas, tick_label(v, ax.step), x, r.bottom + 8);
+  }
+  for (int k = 0; ay.min + k * ay.step <= ay.max + 1e-9 * ay.step; ++k) {
+    const double v = ay.min + k * ay.step;
+    double px, py;
+    pixel(ax.min, v, px, py);
+    const int y = int(std::lround(py));
+    canvas.fill(r.left, y, r.right, y, grid_grey);
+    canvas.fill(r.left - 5, y, r.left, y, black);
+    y_ticks.draw(canvas, tick_label(v, ay.step), r.left - 8, y);
+  }
+
+  // Curves, each composited once from its coverage.
+  Coverage all(width_, height_);
+  const Rect inside{r.left + 1, r.top + 1, r.right - 1, r.bottom - 1};
+  for (const auto& s : series_) {
+    Coverage c(width_, height_);
+    double arc = 0, prev_x = 0, prev_y = 0;
+    bool prev = false;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) {
+        prev = false;
+        continue;
+      }
+      double px, py;
+      pixel(s.x[i], s.y[i], px, py);
+      if (prev) {
+        c.segment(prev_x, prev_y, px, py, arc, s.style, inside);
+        arc += std::hypot(px - prev_x, py - prev_y);
+      }
+      prev_x = px, prev_y = py, prev = true;
+    }
+    for (std::size_t k = 0; k < c.alpha.size(); ++k)
+      if (c.alpha[k] > 0) {
+        canvas.blend(int(k % width_), int(k / width_), s.style.colour, c.alpha[k]);
+        all.alpha[k] = std::max(all.alpha[k], c.alpha[k]);
+      }
+  }
+  canvas.frame(r.left, r.top, r.right, r.bottom, black);
+
+  // Legend in the corner of the plotting area that hides the least of the curves.
+  Text legend(13, VTK_TEXT_LEFT, VTK_TEXT_CENTERED);
+  if (!series_.empty()) {
+    const int line = 20, pad = 8, sample = 30;
+    int text_width = 0;
+    for (const auto& s : series_) {
+      const auto b = legend.box(s.label);
+      text_width = std::max(text_width, b[1] - b[0]);
+    }
+    const int w = pad + sample + 6 + text_width + pad, h = pad + line * int(series_.size()) + pad;
+    std::array<std::array<int, 2>, 4> corners{{{r.right - 10 - w, r.top + 10},
+                                               {r.left + 10, r.top + 10},
+                                               {r.right - 10 - w, r.bottom - 10 - h},
+                                               {r.left + 10, r.bottom - 10 - h}}};
+    auto hidden = [&](const std::array<int, 2>& c) {
+      return all.sum(c[0], c[1], c[0] + w, c[1] + h);
+    };
+    const auto [x0, y0] = *std::min_element(
+        corners.begin(), corners.end(), [&](auto& a, auto& b) { return hidden(a) < hidden(b); });
+    canvas.fill(x0, y0, x0 + w, y0 + h, white);
+    canvas.frame(x0, y0, x0 + w, y0 + h, {160, 160, 160});
+    for (std::size_t i = 0; i < series_.size(); ++i) {
+      const int y = y0 + pad + line * int(i) + line / 2;
+      Coverage c(width_, height_);
+      c.segment(x0 + pad, y, x0 + pad + sample, y, 0, series_[i].style,
+                {0, 0, width_ - 1, height_ - 1});
+      for (std::size_t k = 0; k < c.alpha.size(); ++k)
+        if (c.alpha[k] > 0)
+          canvas.blend(int(k % width_), int(k / width_), series_[i].style.colour, c.alpha[k]);
+      legend.draw(canvas, series_[i].label, x0 + pad + sample + 6, y);
+    }
+  }
+
+  Text title(16, VTK_TEXT_CENTERED, VTK_TEXT_BOTTOM, 0, true);
+  title.draw(canvas, title_, (r.left + r.right) / 2, r.top - 12);
+  Text x_label(14, VTK_TEXT_CENTERED, VTK_TEXT_BOTTOM);
+  x_label.draw(canvas, x_label_, (r.left + r.right) / 2, height_ - 10);
+  Text y_label(14, VTK_TEXT_CENTERED, VTK_TEXT_TOP, 90);
+  y_label.draw(canvas, y_label_, 12, (r.top + r.bottom) / 2);
+  return std::move(canvas.rgb);
+}
+
+void LineChart::write_png(const std::filesystem::path& file) const {
+  const std::vector<unsigned char> rgb = render();
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(width_, height_, 1);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+  auto* out = static_cast<unsigned char*>(image->GetScalarPointer());
+  const std::size_t row = std::size_t(width_) * 3;
+  for (int y = 0; y < height_; ++y) // VTK images count rows from the bottom
+    std::copy_n(&rgb[std::size_t(height_ - 1 - y) * row], row, out + std::size_t(y) * row);
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(file.string().c_str());
+  writer->SetInputData(image);
+  writer->Write();
+  SPHFEM_CHECK(writer->GetErrorCode() == 0, file.string(), ": cannot write the PNG");
+}
+
+} // namespace sphfem::post

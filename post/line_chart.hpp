@@ -1,0 +1,75 @@
+// LineChart: a 2-D line chart — frame, ticks, grid, anti-aliased polylines, legend — drawn on
+// the CPU into an RGB buffer and written as PNG. It needs no OpenGL and no X display, so it
+// works on servers and in CI: Debian's VTK renders vtkChartXY only through an X display
+// (../shared/PLATFORM.md). Text is rasterised by VTK's FreeType text renderer (vtkTextRenderer
+// draws into a vtkImageData, no render window); the PNG is written by vtkPNGWriter. The font is
+// VTK's embedded Arial: no font files needed; it has µ and − but no Greek (labels say szz, not
+// σzz). vtkTextRenderer, unlike VTK 9.1's vtkFreeTypeTools string calls, decodes UTF-8.
+// Pixel coordinates: x to the right, y down from the top-left corner, as the PNG is viewed;
+// integer coordinates are pixel centres. Axes span "nice" ranges (steps 1, 2, 5 × 10^k) that
+// cover every finite point; a non-finite value breaks its line.
+// Verified by tests/post/line_chart_test.cpp.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sphfem::post {
+
+struct Rgb {
+  unsigned char r = 0, g = 0, b = 0;
+};
+
+struct LineStyle {
+  Rgb colour;
+  double width = 2.0; // px
+  bool dashed = false;
+};
+
+class LineChart {
+public:
+  struct Rect {
+    int left, top, right, bottom; // the frame's pixel columns and rows
+  };
+
+  LineChart(int width, int height);
+
+  void set_title(std::string title) { title_ = std::move(title); }
+  void set_x_label(std::string label) { x_label_ = std::move(label); }
+  void set_y_label(std::string label) { y_label_ = std::move(label); }
+  void add_series(std::string label, std::vector<double> x, std::vector<double> y, LineStyle style);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  // The frame of the plotting area: fixed margins, so it depends only on the image size.
+  static Rect plot_area(int width, int height);
+  // Where the data point (x, y) lands on the image.
+  void pixel(double x, double y, double& px, double& py) const;
+
+  // width × height × 3 bytes, RGB, row 0 at the top.
+  std::vector<unsigned char> render() const;
+  void write_png(const std::filesystem::path& file) const;
+
+  // Colour-blind-safe line colours (Okabe–Ito, less the black kept for references), cycling.
+  static Rgb palette(std::size_t i);
+
+private:
+  struct Axis {
+    double min, max, step;
+  };
+  struct Series {
+    std::string label;
+    std::vector<double> x, y;
+    LineStyle style;
+  };
+
+  Axis x_axis() const;
+  Axis y_axis() const;
+
+  int width_, height_;
+  std::string title_, x_label_, y_label_;
+  std::vector<Series> series_;
+};
+
+} // namespace sphfem::post
