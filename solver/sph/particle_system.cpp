@@ -11,46 +11,69 @@ namespace sphfem {
 
 namespace {
 
+// Reorders the first new_to_old.size() entries (the real particles); the rest stay.
 template <class T> void permute(std::vector<T>& field, const std::vector<Index>& new_to_old) {
-  std::vector<T> sorted(field.size());
+  std::vector<T> sorted(field);
   for (std::size_t k = 0; k < new_to_old.size(); ++k)
     sorted[k] = field[new_to_old[k]];
   field.swap(sorted);
 }
 
+// Group of each body: its own index, or for an SPH body attached to an FE body, the FE body's.
+std::vector<int> body_groups(const Case& c) {
+  std::vector<int> group(c.bodies.size());
+  for (std::size_t b = 0; b < group.size(); ++b)
+    group[b] = static_cast<int>(b);
+  for (const AttachSpec& a : c.attachments)
+    group[c.body_index(a.sph_body)] = c.body_index(a.fem_body);
+  return group;
+}
+
 } // namespace
 
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
-                               const std::vector<ElasticConstants>& materials)
-    : spec_(c.sph), materials_(materials), dt_stable_(std::numeric_limits<double>::infinity()) {
-  const Index n = model.particle_count();
-  if (n == 0)
+                               const std::vector<ElasticConstants>& materials, const FeState* fe)
+    : spec_(c.sph), materials_(materials), background_(model.background_nodes), contact_(c),
+      dt_stable_(std::numeric_limits<double>::infinity()) {
+  const Index n = model.particle_count(), total = n + background_.size();
+  if (total == 0)
     return;
+  SPHFEM_CHECK(background_.empty() || fe != nullptr,
+               "background particles need the FE state (internal error)");
+  const std::vector<int> group = body_groups(c);
   auto& p = particles_;
-  p.for_each_field([n](auto& field) { field.resize(n); });
+  p.real = n;
+  p.for_each_field([total](auto& field) { field.resize(total); });
   double largest_h = 0;
-  for (Index i = 0; i < n; ++i) {
-    const int body = model.body_p[i];
+  for (Index i = 0; i < total; ++i) {
+    const bool real = i < n;
+    const Index node = real ? -1 : background_.node(i - n);
+    const int body = real ? model.body_p[i] : model.body_n[node];
     SPHFEM_CHECK(body >= 0 && body < static_cast<int>(c.bodies.size()), "model.h5: particle ", i,
                  " has body id ", body);
-    p.x0_p[i] = p.x_p[i] = model.x_p[i];
+    p.x0_p[i] = p.x_p[i] = real ? model.x_p[i] : model.x_n[node];
     p.v_p[i] = c.bodies[body].velocity;
-    p.m_p[i] = model.m_p[i];
-    p.rho0_p[i] = p.rho_p[i] = model.rho_p[i];
-    p.h0_p[i] = p.h_p[i] = model.h_p[i];
-    p.dp_p[i] = model.spacing_b[body];
+    p.m_p[i] = real ? model.m_p[i] : 0.0;
+    p.rho0_p[i] = p.rho_p[i] = real ? model.rho_p[i] : materials[body].density;
+    p.h0_p[i] = p.h_p[i] = real ? model.h_p[i] : model.h_background[i - n];
+    p.dp_p[i] = real ? model.spacing_b[body] : model.spacing_background[i - n];
     p.S_p[i].setZero();
-    p.p_p[i] = p.e_p[i] = 0;
+    p.p_p[i] = p.e_p[i] = p.de_p[i] = 0;
     p.body_p[i] = body;
+    p.group_p[i] = group[body];
     p.material_p[i] = body; // one material entry per body
-    p.id_p[i] = i;
+    p.id_p[i] = real ? i : -1;
     p.R_p[i].setZero();
+    p.C_p[i].setIdentity(); // background particles are never corrected
+    p.A_p[i].setZero();
     p.u_p[i].setZero();
     p.f_p[i].setZero();
+    p.fc_p[i].setZero();
     largest_h = std::max(largest_h, p.h_p[i]);
   }
   skin_ = spec_.skin * 2.0 * largest_h;
   index_of_id_.resize(n);
+  fill_background(fe);
   rebuild();
   sph_kinematics(p, search_.list(), spec_, 0.0);
   forces(0.0);
@@ -63,7 +86,11 @@ void ParticleSystem::rebuild() {
   // the search's fast path (≈ 1.4× faster, bench/neighbour_search.cpp).
   if (rebuilds_ == 0)
     search_.build(p.x_p, p.h_p, skin_);
-  const std::vector<Index> order = search_.build_order();
+  std::vector<Index> order;
+  order.reserve(p.size());
+  for (Index k : search_.build_order())
+    if (k < p.size())
+      order.push_back(k);
   p.for_each_field([&order](auto& field) { permute(field, order); });
   for (Index k = 0; k < p.size(); ++k)
     index_of_id_[p.id_p[k]] = k;
@@ -73,15 +100,34 @@ void ParticleSystem::rebuild() {
 
 void ParticleSystem::forces(double dt) {
   dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
+  if (!contact_.empty())
+    contact_energy_ = contact_.apply(particles_, search_.list());
+}
+
+void ParticleSystem::fill_background(const FeState* fe) {
+  if (!background_.empty())
+    background_.fill(fe->nodes, fe->elements, fe->around, particles_);
+}
+
+void ParticleSystem::return_background_forces(std::vector<Vec3>& f_nodes) const {
+  background_.return_forces(particles_, f_nodes);
+}
+
+double ParticleSystem::background_energy() const {
+  const auto& p = particles_;
+  return deterministic_sum(p.total() - p.size(), 0.0, [&](Index k) {
+    return p.e_p[p.size() + k] - 0.5 * p.de_p[p.size() + k];
+  });
 }
 
 void ParticleSystem::kick(double dt_v) {
   auto& p = particles_;
-  const Index n = p.size();
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index i = 0; i < n; ++i) {
-    p.v_p[i] += (dt_v / p.m_p[i]) * p.f_p[i];
-    p.e_p[i] += dt_v * p.heat_p[i];
+  const Index n = p.size(), total = p.total();
+#pragma omp parallel for schedule(static) if (total > parallel_min_items)
+  for (Index i = 0; i < total; ++i) {
+    if (i < n)
+      p.v_p[i] += (dt_v / p.m_p[i]) * p.f_p[i];
+    p.e_p[i] += dt_v * p.heat_p[i]; // background particles too: their half of the heating
   }
 }
 
@@ -95,9 +141,10 @@ void ParticleSystem::drift(double dt) {
   }
 }
 
-void ParticleSystem::update(double dt) {
+void ParticleSystem::update(double dt, const FeState* fe) {
   if (empty())
     return;
+  fill_background(fe);
   if (search_.needs_update(particles_.x_p, particles_.h_p))
     rebuild();
   sph_kinematics(particles_, search_.list(), spec_, dt);

@@ -2,10 +2,15 @@
 // sequence of METHOD.md §7 for particles — kick (v^{n+½} = v^{n−½} + Δt f/m), drift
 // (x^{n+1} = xⁿ + Δt (v^{n+½} + XSPH)), then the particle phase of sph_update.hpp on the new
 // positions. Particles are kept sorted by cell (reordered whenever the neighbour list is
-// rebuilt); id_p and index_of() map back to model.h5 order. A case without particles builds
-// none of this. Verified by tests/sph/sph_test.cpp.
+// rebuilt); id_p and index_of() map back to model.h5 order. With coupling (METHOD.md §4) the
+// arrays continue with the background particles of FE nodes, refreshed from the FE state before
+// each particle phase, and contact forces follow the SPH forces. A case without particles or
+// background particles builds none of this. Verified by tests/sph/sph_test.cpp and
+// tests/coupling/.
 #pragma once
 
+#include "solver/coupling/background_particles.hpp"
+#include "solver/coupling/contact.hpp"
 #include "solver/io/case.hpp"
 #include "solver/material/elastic.hpp"
 #include "solver/sph/neighbour_search.hpp"
@@ -16,17 +21,35 @@
 
 namespace sphfem {
 
+// The FE state background particles are copied from.
+struct FeState {
+  const Nodes& nodes;
+  const HexElements& elements;
+  const NodeGather& around;
+};
+
 class ParticleSystem {
 public:
   ParticleSystem() = default;
-  ParticleSystem(const Case& c, const Model& model, const std::vector<ElasticConstants>& materials);
+  // fe: required when the model has background nodes.
+  ParticleSystem(const Case& c, const Model& model, const std::vector<ElasticConstants>& materials,
+                 const FeState* fe = nullptr);
 
-  bool empty() const { return particles_.size() == 0; }
+  bool empty() const { return particles_.total() == 0; }
   // v += Δt_v f/m and the heating of the artificial terms over the same interval.
   void kick(double dt_v);
   void drift(double dt);
-  // Neighbours (rebuilt when needed), kinematics, material update over dt, forces.
-  void update(double dt);
+  // Background particles from `fe`, neighbours (rebuilt when needed), kinematics, material
+  // update over dt, forces, contact.
+  void update(double dt, const FeState* fe = nullptr);
+  // Adds the forces on background particles to their FE nodes.
+  void return_background_forces(std::vector<Vec3>& f_nodes) const;
+  // Energy stored by the coupling pairs on the background side (at the half step), J.
+  double background_energy() const;
+  // Contact energy Σ Φ at the last force evaluation, J.
+  double contact_energy() const { return contact_energy_; }
+  const Contact& contact() const { return contact_; }
+  const BackgroundParticles& background() const { return background_; }
   // Stable step of the particles, s (∞ without particles).
   double stable_dt() const { return dt_stable_; }
 
@@ -39,11 +62,15 @@ public:
 private:
   void rebuild();
   void forces(double dt);
+  void fill_background(const FeState* fe);
 
   SphSpec spec_;
   std::vector<ElasticConstants> materials_;
   Particles particles_;
   NeighbourSearch search_;
+  BackgroundParticles background_;
+  Contact contact_;
+  double contact_energy_ = 0;
   std::vector<Index> index_of_id_;
   double skin_ = 0;
   double dt_stable_ = 0;

@@ -48,6 +48,49 @@ double sound_speed(const ElasticConstants& c, double rho) {
 
 } // namespace
 
+namespace {
+
+// Background particles: the gradient correction C = M⁻¹ from their neighbours of the same
+// group (real and background: the FE continuum around them), so that their pair terms
+// σ Cᵀ/ρ² match those of the real particles they stand beside (in a bar only a few particles
+// wide, every particle is near a lateral surface and C ≠ I); and their half of the stress
+// power of their pairs with real particles, m_b (σ_b Cᵀ/ρ_b²) : Σ_j m_j v_jb ⊗ ∇W, σ Cᵀ/ρ²
+// taken half-way between the last force evaluation (A_p) and the FE stress just copied in:
+// the energy the coupling stores, which the FE elements do not see. With it, energy is
+// balanced across the interface as inside SPH. And their artificial stress, from the FE stress.
+void background_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec,
+                           double dt) {
+  const Index n = p.size(), total = p.total();
+#pragma omp parallel for schedule(static) if (total - n > parallel_min_items / 16)
+  for (Index b = n; b < total; ++b) {
+    const Vec3 xb = p.x_p[b] - 0.5 * dt * p.u_p[b], vb = p.v_p[b];
+    Mat3 G = Mat3::Zero(), M = Mat3::Zero();
+    for (Index j : list.of(b)) {
+      if (p.group_p[j] != p.group_p[b])
+        continue;
+      const Vec3 x_bj = xb - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
+      const double r = x_bj.norm();
+      const double h_bj = 0.5 * (p.h_p[b] + p.h_p[j]);
+      if (r >= 2.0 * h_bj || r == 0.0)
+        continue;
+      const Vec3 grad = (kernel_dW(r, h_bj) / r) * x_bj;
+      M -= p.m_p[j] * x_bj * grad.transpose();
+      if (j < n)
+        G += p.m_p[j] * (p.v_p[j] - vb) * grad.transpose();
+    }
+    M /= p.rho_p[b];
+    p.C_p[b] = spec.gradient_correction && M.determinant() > 1e-3 ? Mat3(M.inverse())
+                                                                  : Mat3(Mat3::Identity());
+    const Mat3 A_new = total_stress(p, b) * p.C_p[b].transpose() / (p.rho_p[b] * p.rho_p[b]);
+    p.de_p[b] = dt * p.m_p[b] * (0.5 * (p.A_p[b] + A_new)).cwiseProduct(G).sum();
+    p.e_p[b] += p.de_p[b];
+    if (spec.artificial_stress)
+      p.R_p[b] = artificial_stress(total_stress(p, b), p.rho_p[b], spec.epsilon);
+  }
+}
+
+} // namespace
+
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
   const Index n = p.size();
 #pragma omp parallel for schedule(static) if (n > parallel_min_items / 16)
@@ -55,7 +98,7 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
     // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity): a rigid rotation
     // then has an exactly skew velocity gradient, as for the hexahedra.
     const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
-    const int body = p.body_p[i];
+    const int group = p.group_p[i];
     Mat3 M = Mat3::Zero(), G = Mat3::Zero();
     Vec3 xsph = Vec3::Zero();
     double drho = 0;
@@ -64,7 +107,7 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
       const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
       const double r = x_ij.norm();
       const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-      if (r >= 2.0 * h_ij || r == 0.0 || p.body_p[j] != body)
+      if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
         continue;
       ++count;
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
@@ -91,6 +134,7 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
     p.xsph_p[i] = spec.xsph_epsilon * xsph;
     p.neighbours_p[i] = count;
   }
+  background_kinematics(p, list, spec, dt);
 }
 
 void sph_material_update(Particles& p, const std::vector<ElasticConstants>& materials,
@@ -130,20 +174,24 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
 
 double sph_forces(Particles& p, const NeighbourList& list,
                   const std::vector<ElasticConstants>& materials, const SphSpec& spec, double dt) {
-  const Index n = p.size();
+  const Index n = p.size(), total = p.total();
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) if (total > parallel_min_items)
+  for (Index i = 0; i < total; ++i) {
     p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() / (p.rho_p[i] * p.rho_p[i]);
     p.c_p[i] = sound_speed(materials[p.material_p[i]], p.rho_p[i]);
     p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
   }
+  // Real particles gather from every neighbour of their group; background particles only
+  // from real ones, so each gets exactly minus what it exerts (returned to its FE node).
   double dt_min = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static) reduction(min : dt_min) if (n > parallel_min_items / 16)
-  for (Index i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) reduction(min                                            \
+                                                    : dt_min) if (total > parallel_min_items / 16)
+  for (Index i = 0; i < total; ++i) {
     const Vec3 xi = p.x_p[i], vi = p.v_p[i], vni = p.vn_p[i];
-    const int body = p.body_p[i];
+    const int group = p.group_p[i];
+    const Index last = i < n ? total : n; // neighbours j < last take part
     const double rho_i = p.rho_p[i];
     const double c_i = p.c_p[i];
     const Mat3& A_i = p.A_p[i];
@@ -153,7 +201,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
       const Vec3 x_ij = xi - p.x_p[j];
       const double r = x_ij.norm();
       const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-      if (r >= 2.0 * h_ij || r == 0.0 || p.body_p[j] != body)
+      if (j >= last || r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
         continue;
       const double rho_j = p.rho_p[j];
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
@@ -180,7 +228,8 @@ double sph_forces(Particles& p, const NeighbourList& list,
     }
     p.f_p[i] = f;
     p.heat_p[i] = heat;
-    dt_min = std::min(dt_min, p.h_p[i] / (c_i + vi.norm()));
+    if (i < n)
+      dt_min = std::min(dt_min, p.h_p[i] / (c_i + vi.norm()));
   }
   return spec.cfl * dt_min;
 }

@@ -8,7 +8,12 @@
 
 namespace sphfem {
 
+// The arrays hold the `real` SPH particles first, then the background particles of FE nodes
+// (METHOD.md §4.1): copies of nodal state that appear in the real particles' sums (attachment,
+// contact) but are not integrated here. size() counts the real particles, total() both.
 struct Particles {
+  Index real = 0;
+
   // State.
   std::vector<Vec3> x0_p;     // reference position, m
   std::vector<Vec3> x_p;      // position xⁿ, m
@@ -24,6 +29,7 @@ struct Particles {
   std::vector<double> e_p;    // internal energy, J (stress work and viscous heating)
   std::vector<double> de_p;   // stress work of the last step, J (energy at the half step)
   std::vector<int> body_p;
+  std::vector<int> group_p; // bodies glued by attachment share a group; sums run within one
   std::vector<int> material_p;
   std::vector<Index> id_p; // index in model.h5 (particles are reordered by cell)
   // Rates and scratch of the current step.
@@ -40,17 +46,20 @@ struct Particles {
   std::vector<double> c_p;       // sound speed √((K + 4G/3)/ρ), m/s
   std::vector<Mat3> R_p;         // artificial stress R_i (METHOD.md §2), Pa m⁶/kg²
   std::vector<int> neighbours_p; // neighbour count (within 2h), for output
+  std::vector<Vec3> fc_p;        // contact force on the particle (part of f_p), N
 
-  Index size() const { return static_cast<Index>(x_p.size()); }
+  Index size() const { return real; }
+  Index total() const { return static_cast<Index>(x_p.size()); }
 
   // Visits every per-particle array (for resize and reorder).
   template <class Visit> void for_each_field(Visit visit) {
     visit(x0_p), visit(x_p), visit(v_p), visit(m_p), visit(rho0_p), visit(rho_p), visit(h_p);
-    visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p);
+    visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p), visit(group_p);
     visit(material_p), visit(id_p), visit(f_p), visit(L_p), visit(C_p), visit(drho_p),
         visit(xsph_p);
     visit(u_p), visit(G_p), visit(de_p);
-    visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(R_p), visit(neighbours_p);
+    visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(R_p), visit(neighbours_p),
+        visit(fc_p);
   }
 };
 

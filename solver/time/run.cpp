@@ -31,27 +31,47 @@ int thread_count() {
 #endif
 }
 
-std::vector<std::string> history_columns(const std::vector<Probe>& probes,
+// Bodies named in a contact pair, by index.
+std::vector<int> contact_bodies(const Case& c) {
+  std::vector<int> out;
+  for (int b = 0; b < static_cast<int>(c.bodies.size()); ++b)
+    for (const ContactSpec& pair : c.contacts)
+      if (pair.bodies[0] == c.bodies[b].name || pair.bodies[1] == c.bodies[b].name) {
+        out.push_back(b);
+        break;
+      }
+  return out;
+}
+
+std::vector<std::string> history_columns(const Case& c, const std::vector<Probe>& probes,
                                          const std::vector<std::string>& bodies) {
   std::vector<std::string> columns{"time", "dt"};
-  for (const auto& c : probe_columns(probes))
-    columns.push_back(c);
+  for (const auto& name : probe_columns(probes))
+    columns.push_back(name);
   for (const auto& b : bodies)
     for (const char* k : {".vx", ".vy", ".vz"})
       columns.push_back("body." + b + k);
+  for (int b : contact_bodies(c))
+    for (const char* k : {".fx", ".fy", ".fz"})
+      columns.push_back("contact." + bodies[b] + k);
   for (const char* e : {"kinetic", "internal", "hourglass", "contact", "external_work", "total"})
     columns.push_back(std::string("energy.") + e);
   return columns;
 }
 
 void history_row(const Simulation& sim, double dt, const std::vector<Probe>& probes,
-                 const Energies& e, std::vector<double>& row) {
+                 const std::vector<int>& in_contact, const Energies& e, std::vector<double>& row) {
   row.clear();
   row.push_back(sim.time());
   row.push_back(dt);
   probe_values(probes, sim, row);
-  for (const auto& b : sim.bodies())
+  const std::vector<BodyTotals> bodies = sim.bodies();
+  for (const auto& b : bodies)
     row.insert(row.end(), {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()});
+  for (int b : in_contact) {
+    const Vec3& f = bodies[b].contact_force;
+    row.insert(row.end(), {f.x(), f.y(), f.z()});
+  }
   row.insert(row.end(),
              {e.kinetic, e.internal, e.hourglass, e.contact, e.external_work, e.total()});
 }
@@ -91,9 +111,10 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
                                            sim.particle_system().particles());
     frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
   }
-  HistoryWriter history(out, history_columns(probes, sim.body_names()));
+  HistoryWriter history(out, history_columns(c, probes, sim.body_names()));
   std::vector<double> row;
-  history_row(sim, 0.0, probes, sim.energies(), row);
+  const std::vector<int> in_contact = contact_bodies(c);
+  history_row(sim, 0.0, probes, in_contact, sim.energies(), row);
   history.append(row);
 
   Progress progress(c.time.end, log);
@@ -112,7 +133,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       const Energies e = sim.energies();
       SPHFEM_CHECK(std::isfinite(e.total()), "energy is not finite at t = ", sim.time(),
                    " s (step ", sim.steps(), "): the run is unstable; last good frame kept");
-      history_row(sim, dt, probes, e, row);
+      history_row(sim, dt, probes, in_contact, e, row);
       history.append(row);
       while (next_history <= sim.time() + eps)
         next_history += c.time.history_interval > 0 ? c.time.history_interval : dt;

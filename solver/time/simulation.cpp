@@ -82,11 +82,14 @@ Simulation::Simulation(const Case& c, const Model& model)
   constraints_ = Constraints(c, model);
   loads_ = PressureLoads(c, model);
   constraints_.apply_initial(nodes_.v_n);
-  particles_ = ParticleSystem(c, model, materials_);
+  const FeState fe{nodes_, elements_, gather_};
+  particles_ = ParticleSystem(c, model, materials_, &fe);
   particle_boundaries_ = ParticleBoundaries(c, model);
+  ties_ = InterfaceTies(c, model);
 
   dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
-  initial_energy_ = energies().kinetic;
+  particles_.return_background_forces(nodes_.f_int_n);
+  initial_energy_ = energies().total(); // kinetic, and contact energy if bodies start close
   initial_momentum_ = momentum();
   const auto& p = particles_.particles();
   momentum_scale_ =
@@ -120,6 +123,8 @@ void Simulation::step(double dt) {
   for (Index i = 0; i < n; ++i)
     v[i] += (dt_v / m[i]) * f[i];
   particles_.kick(dt_v);
+  const auto index_of = [this](Index id) { return particles_.index_of(id); };
+  ties_.merge(particles_.particles(), nodes_, index_of);
   if (!particle_boundaries_.empty()) {
     const ReactionTotals on_particles =
         particle_boundaries_.apply(time_, time_ + 0.5 * dt, dt_v, particles_);
@@ -142,6 +147,7 @@ void Simulation::step(double dt) {
   external_work_ += reactions.work;
   external_impulse_ += reactions.impulse;
   impulse_scale_ += reactions.impulse.norm();
+  ties_.follow(particles_.particles(), nodes_, index_of);
 
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
   for (Index i = 0; i < n; ++i)
@@ -151,7 +157,9 @@ void Simulation::step(double dt) {
 
   dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
   gather_.gather_forces(elements_, f);
-  particles_.update(dt);
+  const FeState fe{nodes_, elements_, gather_};
+  particles_.update(dt, &fe);
+  particles_.return_background_forces(f);
   time_ += dt;
   dt_previous_ = dt;
   ++steps_;
@@ -172,9 +180,11 @@ Energies Simulation::energies() const {
   out.internal =
       deterministic_sum(e.size(), 0.0,
                         [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; }) +
-      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; });
+      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; }) +
+      particles_.background_energy();
   out.hourglass =
       deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_hg_e[k]; });
+  out.contact = particles_.contact_energy();
   out.external_work = external_work_;
   return out;
 }
@@ -223,7 +233,10 @@ std::vector<BodyTotals> Simulation::bodies() const {
       return part.body_p[i] == b ? MassMomentum{part.m_p[i], part.m_p[i] * part.v_p[i]}
                                  : MassMomentum{};
     });
-    out.push_back({body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero())});
+    const Vec3 contact =
+        particles_.contact().empty() ? Vec3(Vec3::Zero()) : particles_.contact().force_on(part, b);
+    out.push_back(
+        {body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero()), contact});
   }
   return out;
 }

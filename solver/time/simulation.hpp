@@ -7,6 +7,7 @@
 // tests/fem/conservation_test.cpp.
 #pragma once
 
+#include "solver/coupling/interface_ties.hpp"
 #include "solver/fem/node_gather.hpp"
 #include "solver/io/case.hpp"
 #include "solver/material/elastic.hpp"
@@ -35,8 +36,9 @@ struct Energies {
 
 struct BodyTotals {
   std::string name;
-  double mass = 0;                  // kg
-  Vec3 com_velocity = Vec3::Zero(); // m/s
+  double mass = 0;                   // kg
+  Vec3 com_velocity = Vec3::Zero();  // m/s
+  Vec3 contact_force = Vec3::Zero(); // from its contact partners (METHOD.md §4.3), N
 };
 
 class Simulation {
@@ -78,6 +80,7 @@ private:
   Constraints constraints_;
   PressureLoads loads_;
   ParticleBoundaries particle_boundaries_;
+  InterfaceTies ties_;
 
   double time_ = 0;
   long long steps_ = 0;

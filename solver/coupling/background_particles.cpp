@@ -1,0 +1,40 @@
+#include "solver/coupling/background_particles.hpp"
+
+#include "solver/core/parallel.hpp"
+
+namespace sphfem {
+
+void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
+                               const NodeGather& around, Particles& p) const {
+  const Index count = size();
+#pragma omp parallel for schedule(static) if (count > parallel_min_items)
+  for (Index k = 0; k < count; ++k) {
+    const Index b = p.real + k, i = nodes_[k];
+    Mat3 sigma = Mat3::Zero();
+    double mass = 0, volume = 0;
+    for (Index entry : around.around(i)) {
+      const Index e = entry / 8;
+      sigma += elements.V_e[e] * (elements.S_e[e] - elements.p_e[e] * Mat3::Identity());
+      mass += elements.mass_e[e];
+      volume += elements.V_e[e];
+    }
+    sigma /= volume;
+    p.x_p[b] = nodes.x_n[i];
+    p.v_p[b] = p.u_p[b] = nodes.v_n[i];
+    p.m_p[b] = nodes.m_n[i];
+    p.rho_p[b] = mass / volume;
+    p.p_p[b] = -sigma.trace() / 3.0;
+    p.S_p[b] = sigma + p.p_p[b] * Mat3::Identity();
+    p.f_p[b] = nodes.f_int_n[i];
+  }
+}
+
+void BackgroundParticles::return_forces(const Particles& p, std::vector<Vec3>& f_nodes) const {
+  // Each node has at most one background particle: no two slots write the same node.
+  const Index count = size();
+#pragma omp parallel for schedule(static) if (count > parallel_min_items)
+  for (Index k = 0; k < count; ++k)
+    f_nodes[nodes_[k]] += p.f_p[p.real + k];
+}
+
+} // namespace sphfem
