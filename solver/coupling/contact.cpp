@@ -21,10 +21,10 @@ Contact::Contact(const Case& c) : bodies_(static_cast<int>(c.bodies.size())) {
 }
 
 double Contact::apply(Particles& p, const NeighbourList& list) const {
-  const Index total = p.total();
-  // Each row gathers its own forces (race-free); each pair's energy is counted once per row,
-  // so halved.
-  const double energy = deterministic_sum(total, 0.0, [&](Index i) {
+  // Each row (real and background particles) gathers its own forces (race-free); each pair's
+  // energy is counted once per row, so halved. A pair with a mirror image (no row of its own)
+  // then counts half: its mirror pair, the other half, lies outside the modelled part.
+  const double energy = deterministic_sum(p.rows(), 0.0, [&](Index i) {
     if (!in_contact_[p.body_p[i]])
       return 0.0;
     const int row = p.body_p[i] * bodies_;
@@ -58,7 +58,7 @@ double Contact::apply(Particles& p, const NeighbourList& list) const {
 }
 
 Vec3 Contact::force_on(const Particles& p, int body) const {
-  return deterministic_sum(p.total(), Vec3(Vec3::Zero()), [&](Index i) -> Vec3 {
+  return deterministic_sum(p.rows(), Vec3(Vec3::Zero()), [&](Index i) -> Vec3 {
     return p.body_p[i] == body ? p.fc_p[i] : Vec3(Vec3::Zero());
   });
 }

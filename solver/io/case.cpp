@@ -18,4 +18,13 @@ int Case::body_index(const std::string& name) const {
   return found == bodies.end() ? -1 : static_cast<int>(found - bodies.begin());
 }
 
+std::vector<int> Case::body_groups() const {
+  std::vector<int> group(bodies.size());
+  for (std::size_t b = 0; b < group.size(); ++b)
+    group[b] = static_cast<int>(b);
+  for (const AttachSpec& a : attachments)
+    group[body_index(a.sph_body)] = body_index(a.fem_body);
+  return group;
+}
+
 } // namespace sphfem

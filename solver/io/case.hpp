@@ -154,6 +154,9 @@ struct Case {
 
   const MaterialSpec& material(const std::string& name) const;
   int body_index(const std::string& name) const; // -1 if absent
+  // Group of each body: its own index, or for an SPH body attached to an FE body, the FE
+  // body's (the entities of one group share their SPH sums).
+  std::vector<int> body_groups() const;
 };
 
 } // namespace sphfem

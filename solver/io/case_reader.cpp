@@ -598,10 +598,6 @@ BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& 
                                     {"symmetry", BoundaryType::Symmetry}});
   const BodySpec& body = body_ref(at, c.bodies);
   check_particle_faces(child(at, "body"), body);
-  if (body.method == Method::Sph && spec.type == BoundaryType::Symmetry)
-    fail(child(at, "type"), "'" + body.name +
-                                "' is an SPH body: symmetry planes for particles (mirror "
-                                "particles) are not supported yet");
   spec.body = body.name;
   spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
   const Located velocity = child(at, "velocity");

@@ -19,30 +19,21 @@ template <class T> void permute(std::vector<T>& field, const std::vector<Index>&
   field.swap(sorted);
 }
 
-// Group of each body: its own index, or for an SPH body attached to an FE body, the FE body's.
-std::vector<int> body_groups(const Case& c) {
-  std::vector<int> group(c.bodies.size());
-  for (std::size_t b = 0; b < group.size(); ++b)
-    group[b] = static_cast<int>(b);
-  for (const AttachSpec& a : c.attachments)
-    group[c.body_index(a.sph_body)] = c.body_index(a.fem_body);
-  return group;
-}
-
 } // namespace
 
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
                                const std::vector<ElasticConstants>& materials, const FeState* fe)
-    : spec_(c.sph), materials_(materials), background_(model.background_nodes), contact_(c),
-      dt_stable_(std::numeric_limits<double>::infinity()) {
+    : spec_(c.sph), materials_(materials), background_(model.background_nodes), mirror_(c),
+      contact_(c), dt_stable_(std::numeric_limits<double>::infinity()) {
   const Index n = model.particle_count(), total = n + background_.size();
   if (total == 0)
     return;
   SPHFEM_CHECK(background_.empty() || fe != nullptr,
                "background particles need the FE state (internal error)");
-  const std::vector<int> group = body_groups(c);
+  const std::vector<int> group = c.body_groups();
   auto& p = particles_;
   p.real = n;
+  p.background = background_.size();
   p.for_each_field([total](auto& field) { field.resize(total); });
   double largest_h = 0;
   for (Index i = 0; i < total; ++i) {
@@ -76,7 +67,22 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
   fill_background(fe);
   rebuild();
   sph_kinematics(p, search_.list(), spec_, 0.0);
+  mirror_.refresh_stress(p, p.rows());
   forces(0.0);
+}
+
+void ParticleSystem::place_mirrors() {
+  if (mirror_.empty())
+    return;
+  auto& p = particles_;
+  double largest_h = 0;
+  for (Index i = 0; i < p.size(); ++i)
+    largest_h = std::max(largest_h, p.h_p[i]);
+  mirror_.select(p, 2.0 * largest_h + skin_);
+  const Index total = p.rows() + mirror_.size();
+  p.for_each_field([total](auto& field) { field.resize(total); });
+  mirror_.refresh_motion(p, p.rows());
+  mirror_.refresh_stress(p, p.rows());
 }
 
 void ParticleSystem::rebuild() {
@@ -84,8 +90,10 @@ void ParticleSystem::rebuild() {
   // Renumber in the cell order of the last build (the particles have moved little since; at
   // the start, of a first build) for locality, then list: lists filled in near-cell order take
   // the search's fast path (≈ 1.4× faster, bench/neighbour_search.cpp).
-  if (rebuilds_ == 0)
+  if (rebuilds_ == 0) {
+    place_mirrors();
     search_.build(p.x_p, p.h_p, skin_);
+  }
   std::vector<Index> order;
   order.reserve(p.size());
   for (Index k : search_.build_order())
@@ -94,6 +102,7 @@ void ParticleSystem::rebuild() {
   p.for_each_field([&order](auto& field) { permute(field, order); });
   for (Index k = 0; k < p.size(); ++k)
     index_of_id_[p.id_p[k]] = k;
+  place_mirrors();
   search_.build(p.x_p, p.h_p, skin_);
   ++rebuilds_;
 }
@@ -115,16 +124,15 @@ void ParticleSystem::return_background_forces(std::vector<Vec3>& f_nodes) const 
 
 double ParticleSystem::background_energy() const {
   const auto& p = particles_;
-  return deterministic_sum(p.total() - p.size(), 0.0, [&](Index k) {
-    return p.e_p[p.size() + k] - 0.5 * p.de_p[p.size() + k];
-  });
+  return deterministic_sum(
+      p.background, 0.0, [&](Index k) { return p.e_p[p.size() + k] - 0.5 * p.de_p[p.size() + k]; });
 }
 
 void ParticleSystem::kick(double dt_v) {
   auto& p = particles_;
-  const Index n = p.size(), total = p.total();
-#pragma omp parallel for schedule(static) if (total > parallel_min_items)
-  for (Index i = 0; i < total; ++i) {
+  const Index n = p.size(), rows = p.rows();
+#pragma omp parallel for schedule(static) if (rows > parallel_min_items)
+  for (Index i = 0; i < rows; ++i) {
     if (i < n)
       p.v_p[i] += (dt_v / p.m_p[i]) * p.f_p[i];
     p.e_p[i] += dt_v * p.heat_p[i]; // background particles too: their half of the heating
@@ -145,10 +153,12 @@ void ParticleSystem::update(double dt, const FeState* fe) {
   if (empty())
     return;
   fill_background(fe);
+  mirror_.refresh_motion(particles_, particles_.rows());
   if (search_.needs_update(particles_.x_p, particles_.h_p))
     rebuild();
   sph_kinematics(particles_, search_.list(), spec_, dt);
   sph_material_update(particles_, materials_, spec_, dt);
+  mirror_.refresh_stress(particles_, particles_.rows());
   forces(dt);
 }
 

@@ -13,6 +13,7 @@
 #include "solver/coupling/contact.hpp"
 #include "solver/io/case.hpp"
 #include "solver/material/elastic.hpp"
+#include "solver/sph/mirror_particles.hpp"
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/model.hpp"
 #include "solver/state/particles.hpp"
@@ -63,12 +64,14 @@ private:
   void rebuild();
   void forces(double dt);
   void fill_background(const FeState* fe);
+  void place_mirrors();
 
   SphSpec spec_;
   std::vector<ElasticConstants> materials_;
   Particles particles_;
   NeighbourSearch search_;
   BackgroundParticles background_;
+  MirrorParticles mirror_;
   Contact contact_;
   double contact_energy_ = 0;
   std::vector<Index> index_of_id_;

@@ -60,9 +60,9 @@ namespace {
 // balanced across the interface as inside SPH. And their artificial stress, from the FE stress.
 void background_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec,
                            double dt) {
-  const Index n = p.size(), total = p.total();
-#pragma omp parallel for schedule(static) if (total - n > parallel_min_items / 16)
-  for (Index b = n; b < total; ++b) {
+  const Index n = p.size(), rows = p.rows();
+#pragma omp parallel for schedule(static) if (rows - n > parallel_min_items / 16)
+  for (Index b = n; b < rows; ++b) {
     const Vec3 xb = p.x_p[b] - 0.5 * dt * p.u_p[b], vb = p.v_p[b];
     Mat3 G = Mat3::Zero(), M = Mat3::Zero();
     for (Index j : list.of(b)) {
@@ -75,7 +75,7 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
         continue;
       const Vec3 grad = (kernel_dW(r, h_bj) / r) * x_bj;
       M -= p.m_p[j] * x_bj * grad.transpose();
-      if (j < n)
+      if (p.real_like(j))
         G += p.m_p[j] * (p.v_p[j] - vb) * grad.transpose();
     }
     M /= p.rho_p[b];
@@ -174,7 +174,7 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
 
 double sph_forces(Particles& p, const NeighbourList& list,
                   const std::vector<ElasticConstants>& materials, const SphSpec& spec, double dt) {
-  const Index n = p.size(), total = p.total();
+  const Index n = p.size(), rows = p.rows(), total = p.total();
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
 #pragma omp parallel for schedule(static) if (total > parallel_min_items)
@@ -183,15 +183,16 @@ double sph_forces(Particles& p, const NeighbourList& list,
     p.c_p[i] = sound_speed(materials[p.material_p[i]], p.rho_p[i]);
     p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
   }
-  // Real particles gather from every neighbour of their group; background particles only
-  // from real ones, so each gets exactly minus what it exerts (returned to its FE node).
+  // Real particles gather from every neighbour of their group (mirror images included);
+  // background particles only from real ones (and their images), so each gets exactly minus
+  // what it exerts (returned to its FE node). Mirror images gather nothing.
   double dt_min = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static) reduction(min                                            \
-                                                    : dt_min) if (total > parallel_min_items / 16)
-  for (Index i = 0; i < total; ++i) {
+                                                    : dt_min) if (rows > parallel_min_items / 16)
+  for (Index i = 0; i < rows; ++i) {
     const Vec3 xi = p.x_p[i], vi = p.v_p[i], vni = p.vn_p[i];
     const int group = p.group_p[i];
-    const Index last = i < n ? total : n; // neighbours j < last take part
+    const bool real = i < n;
     const double rho_i = p.rho_p[i];
     const double c_i = p.c_p[i];
     const Mat3& A_i = p.A_p[i];
@@ -201,7 +202,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
       const Vec3 x_ij = xi - p.x_p[j];
       const double r = x_ij.norm();
       const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-      if (j >= last || r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
+      if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group || !(real || p.real_like(j)))
         continue;
       const double rho_j = p.rho_p[j];
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;

@@ -8,11 +8,15 @@
 
 namespace sphfem {
 
-// The arrays hold the `real` SPH particles first, then the background particles of FE nodes
+// The arrays hold the `real` SPH particles first, then the `background` particles of FE nodes
 // (METHOD.md §4.1): copies of nodal state that appear in the real particles' sums (attachment,
-// contact) but are not integrated here. size() counts the real particles, total() both.
+// contact) but are not integrated here; then the mirror images of real particles across
+// symmetry planes, which only appear in the real particles' sums. size() counts the real
+// particles, rows() real and background (the entities that gather sums), total() all.
 struct Particles {
   Index real = 0;
+  Index background = 0;
+  Index mirrored_real = 0; // mirror images of real particles (the first ones after rows())
 
   // State.
   std::vector<Vec3> x0_p;     // reference position, m
@@ -49,6 +53,9 @@ struct Particles {
   std::vector<Vec3> fc_p;        // contact force on the particle (part of f_p), N
 
   Index size() const { return real; }
+  Index rows() const { return real + background; }
+  // A real particle or the mirror image of one: what background particles pair with.
+  bool real_like(Index j) const { return j < real || (j >= rows() && j < rows() + mirrored_real); }
   Index total() const { return static_cast<Index>(x_p.size()); }
 
   // Visits every per-particle array (for resize and reorder).

@@ -35,8 +35,8 @@ ParticleBoundaries::ParticleBoundaries(const Case& c, const Model& model) {
     }
   for (const auto& bc : c.boundary_conditions)
     if (on_particles(c, bc.body)) {
-      SPHFEM_CHECK(bc.type != BoundaryType::Symmetry, "boundary_conditions: symmetry on ", bc.body,
-                   " (particles) is not supported yet");
+      if (bc.type == BoundaryType::Symmetry)
+        continue; // mirror particles (solver/sph/mirror_particles.hpp)
       const auto& ids = face(model, bc.body, bc.face).particles;
       if (bc.type == BoundaryType::Fixed)
         constraints_.push_back({ids, {0.0, 0.0, 0.0}, TimeFunction()});

@@ -632,10 +632,11 @@ TEST(CaseReaderSph, ReadsBoundaryConditionsAndLoadsOnSphBoxes) {
   }
 }
 
-TEST(CaseReaderSph, RejectsSymmetryOnSphBodies) {
-  EXPECT_EQ(error_of(kSph + "boundary_conditions:\n  - {type: symmetry, body: bar, face: xmin}\n"),
-            "case.yaml:12: boundary_conditions.0.type: 'bar' is an SPH body: symmetry planes for "
-            "particles (mirror particles) are not supported yet");
+TEST(CaseReaderSph, AcceptsSymmetryOnABoxFace) {
+  const Case c = read_case_text(
+      kSph + "boundary_conditions:\n  - {type: symmetry, body: bar, face: xmin}\n", "case.yaml");
+  ASSERT_EQ(c.boundary_conditions.size(), 1u);
+  EXPECT_EQ(c.boundary_conditions[0].type, BoundaryType::Symmetry);
 }
 
 TEST(CaseReaderSph, RejectsFacesAnSphBoxDoesNotHave) {

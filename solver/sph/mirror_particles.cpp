@@ -1,0 +1,109 @@
+#include "solver/sph/mirror_particles.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <cmath>
+
+namespace sphfem {
+
+namespace {
+
+// The box face `face` of `body` (the reader allows particle faces on boxes only): a point on
+// it and its outward normal.
+std::pair<Vec3, Vec3> face_plane(const BodySpec& body, const std::string& face) {
+  const GeometrySpec& g = body.geometry;
+  if (g.kind == GeometrySpec::Kind::Box) {
+    const char* names[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+    for (int k = 0; k < 6; ++k)
+      if (face == names[k]) {
+        const int axis = k / 2;
+        const bool max = k % 2 == 1;
+        Vec3 normal = Vec3::Zero();
+        normal[axis] = max ? 1.0 : -1.0;
+        return {max ? g.box.max : g.box.min, normal};
+      }
+  }
+  throw Error("boundary_conditions: symmetry on " + body.name + "/" + face +
+              ": particles take symmetry planes only on box faces");
+}
+
+} // namespace
+
+MirrorParticles::MirrorParticles(const Case& c) {
+  const std::vector<int> group = c.body_groups();
+  for (const auto& bc : c.boundary_conditions) {
+    const int body = c.body_index(bc.body);
+    if (bc.type != BoundaryType::Symmetry || c.bodies[body].method != Method::Sph)
+      continue;
+    const auto [point, normal] = face_plane(c.bodies[body], bc.face);
+    planes_.push_back({group[body], point, normal});
+  }
+}
+
+void MirrorParticles::select(Particles& p, double reach) {
+  source_.clear();
+  image_.clear();
+  // Real particles first, then background particles (the FE side of an interface near the
+  // plane needs its images as much as the SPH side).
+  for (Index i = 0; i < p.rows(); ++i) {
+    if (i == p.size())
+      p.mirrored_real = size();
+    // The planes of i's body within reach; an image for every non-empty subset of them.
+    std::vector<int> near;
+    for (int k = 0; k < static_cast<int>(planes_.size()); ++k)
+      if (planes_[k].group == p.group_p[i] &&
+          std::abs((p.x_p[i] - planes_[k].point).dot(planes_[k].normal)) < reach)
+        near.push_back(k);
+    for (unsigned subset = 1; subset < (1u << near.size()); ++subset) {
+      Image image{Mat3::Identity(), Vec3::Zero()};
+      for (std::size_t k = 0; k < near.size(); ++k)
+        if (subset & (1u << k)) {
+          const Plane& plane = planes_[near[k]];
+          const Mat3 R = Mat3::Identity() - 2.0 * plane.normal * plane.normal.transpose();
+          const Vec3 t = 2.0 * plane.point.dot(plane.normal) * plane.normal;
+          image = {R * image.R, R * image.t + t};
+        }
+      source_.push_back(i);
+      image_.push_back(image);
+    }
+  }
+  if (p.background == 0)
+    p.mirrored_real = size();
+}
+
+void MirrorParticles::refresh_motion(Particles& p, Index first) const {
+  for (Index k = 0; k < size(); ++k) {
+    const Index g = first + k, i = source_[k];
+    const Mat3& R = image_[k].R;
+    p.x_p[g] = R * p.x_p[i] + image_[k].t;
+    p.x0_p[g] = R * p.x0_p[i] + image_[k].t;
+    p.v_p[g] = R * p.v_p[i];
+    p.u_p[g] = R * p.u_p[i];
+    p.m_p[g] = p.m_p[i];
+    p.rho0_p[g] = p.rho0_p[i];
+    p.rho_p[g] = p.rho_p[i];
+    p.h_p[g] = p.h_p[i];
+    p.h0_p[g] = p.h0_p[i];
+    p.dp_p[g] = p.dp_p[i];
+    p.body_p[g] = p.body_p[i];
+    p.group_p[g] = p.group_p[i];
+    p.material_p[g] = p.material_p[i];
+    p.id_p[g] = -1;
+  }
+}
+
+void MirrorParticles::refresh_stress(Particles& p, Index first) const {
+  for (Index k = 0; k < size(); ++k) {
+    const Index g = first + k, i = source_[k];
+    const Mat3& R = image_[k].R;
+    p.rho_p[g] = p.rho_p[i]; // the material update has just changed density and h
+    p.h_p[g] = p.h_p[i];
+    p.S_p[g] = R * p.S_p[i] * R.transpose();
+    p.p_p[g] = p.p_p[i];
+    p.C_p[g] = R * p.C_p[i] * R.transpose();
+    p.R_p[g] = R * p.R_p[i] * R.transpose();
+    p.f_p[g] = R * p.f_p[i];
+  }
+}
+
+} // namespace sphfem

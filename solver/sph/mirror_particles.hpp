@@ -1,0 +1,48 @@
+// Symmetry planes for SPH bodies (a `symmetry` condition on a box face of a particle body):
+// the real (and background) particles within reach of a plane get mirror images across it — and
+// across both planes of a corner — appended to the particle arrays, refreshed every step with the
+// mirrored position, velocity (R v), stress (R σ Rᵀ) and gradient correction (R C Rᵀ), R = I − 2 n
+// nᵀ (a product of two for a corner). Real particles include them in their sums, so the kernel
+// support is whole at the plane and the body behaves as the symmetric whole would; the images
+// gather nothing themselves. Verified by tests/sph/mirror_particles_test.cpp.
+#pragma once
+
+#include "solver/io/case.hpp"
+#include "solver/state/particles.hpp"
+
+#include <vector>
+
+namespace sphfem {
+
+class MirrorParticles {
+public:
+  MirrorParticles() = default;
+  // The planes of the case's symmetry conditions on SPH bodies (box faces).
+  explicit MirrorParticles(const Case& c);
+
+  bool empty() const { return planes_.empty(); }
+  Index size() const { return static_cast<Index>(source_.size()); }
+
+  // Chooses the images of the real and background particles lying within `reach` of their
+  // group's planes (images of real particles first; sets p.mirrored_real).
+  void select(Particles& p, double reach);
+  // Position, velocity, mass, density, h and identity of each image (slots from `first`).
+  void refresh_motion(Particles& p, Index first) const;
+  // Density, h, stress, gradient correction, artificial stress and last force of each image.
+  void refresh_stress(Particles& p, Index first) const;
+
+private:
+  struct Plane {
+    int group; // of the body it bounds: an attached FE body's background particles share it
+    Vec3 point, normal;
+  };
+  struct Image {
+    Mat3 R; // x' = R x + t
+    Vec3 t;
+  };
+  std::vector<Plane> planes_;
+  std::vector<Index> source_; // real particle of each image (current index)
+  std::vector<Image> image_;
+};
+
+} // namespace sphfem
