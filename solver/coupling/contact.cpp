@@ -48,7 +48,11 @@ double Contact::apply(Particles& p, const NeighbourList& list) const {
       const double ratio = kernel_W(r, h_ij) / W0;
       const double scaled = std::pow(ratio, pair.exponent - 1.0);
       phi += pair.penalty * V_ij * scaled * ratio;
-      f -= (pair.penalty * V_ij * pair.exponent * scaled * kernel_dW(r, h_ij) / (r * W0)) * x_ij;
+      const Vec3 f_ij =
+          -(pair.penalty * V_ij * pair.exponent * scaled * kernel_dW(r, h_ij) / (r * W0)) * x_ij;
+      f += f_ij;
+      if (j >= p.rows())
+        p.fm_p[i] += f_ij; // contact with a mirror image: part of the planes' reaction
     }
     p.fc_p[i] = f;
     p.f_p[i] += f;

@@ -60,6 +60,7 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     p.u_p[i].setZero();
     p.f_p[i].setZero();
     p.fc_p[i].setZero();
+    p.fm_p[i].setZero();
     largest_h = std::max(largest_h, p.h_p[i]);
   }
   skin_ = spec_.skin * 2.0 * largest_h;
@@ -120,6 +121,14 @@ void ParticleSystem::fill_background(const FeState* fe) {
 
 void ParticleSystem::return_background_forces(std::vector<Vec3>& f_nodes) const {
   background_.return_forces(particles_, f_nodes);
+}
+
+Vec3 ParticleSystem::mirror_force() const {
+  if (mirror_.empty())
+    return Vec3::Zero();
+  const auto& p = particles_;
+  return deterministic_sum(p.rows(), Vec3(Vec3::Zero()),
+                           [&](Index i) -> Vec3 { return p.fm_p[i]; });
 }
 
 double ParticleSystem::background_energy() const {

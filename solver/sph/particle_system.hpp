@@ -47,6 +47,9 @@ public:
   void return_background_forces(std::vector<Vec3>& f_nodes) const;
   // Energy stored by the coupling pairs on the background side (at the half step), J.
   double background_energy() const;
+  // Force of the symmetry planes (mirror images) on the particles at the last evaluation, N:
+  // an external reaction for the momentum balance.
+  Vec3 mirror_force() const;
   // Contact energy Σ Φ at the last force evaluation, J.
   double contact_energy() const { return contact_energy_; }
   const Contact& contact() const { return contact_; }

@@ -196,7 +196,7 @@ double sph_forces(Particles& p, const NeighbourList& list,
     const double rho_i = p.rho_p[i];
     const double c_i = p.c_p[i];
     const Mat3& A_i = p.A_p[i];
-    Vec3 f = Vec3::Zero();
+    Vec3 f = Vec3::Zero(), f_mirror = Vec3::Zero();
     double heat = 0;
     for (Index j : list.of(i)) {
       const Vec3 x_ij = xi - p.x_p[j];
@@ -209,25 +209,29 @@ double sph_forces(Particles& p, const NeighbourList& list,
       const Vec3 v_ij = vi - p.v_p[j], vn_ij = vni - p.vn_p[j];
       const double mm = p.m_p[i] * p.m_p[j];
       const Mat3 pair = A_i + p.A_p[j];
+      Vec3 f_ij = mm * (pair * grad);
       if (spec.artificial_stress) {
         const double dp = 0.5 * (p.dp_p[i] + p.dp_p[j]);
         const double fij = power(kernel_W(r, h_ij) / kernel_W(dp, h_ij), exponent);
         const Vec3 f_R = (mm * fij) * ((p.R_p[i] + p.R_p[j]) * grad);
-        f += f_R;
+        f_ij += f_R;
         heat -= 0.5 * f_R.dot(vn_ij);
       }
-      f += mm * (pair * grad);
       const double approach = v_ij.dot(x_ij);
       if (spec.artificial_viscosity && approach < 0) {
         const double c_j = p.c_p[j];
         const double mu = h_ij * approach / (r * r + 0.01 * h_ij * h_ij);
         const double Pi =
             (-spec.alpha * 0.5 * (c_i + c_j) * mu + spec.beta * mu * mu) / (0.5 * (rho_i + rho_j));
-        f -= (mm * Pi) * grad;
+        f_ij -= (mm * Pi) * grad;
         heat += 0.5 * mm * Pi * vn_ij.dot(grad);
       }
+      f += f_ij;
+      if (j >= rows)
+        f_mirror += f_ij;
     }
     p.f_p[i] = f;
+    p.fm_p[i] = f_mirror;
     p.heat_p[i] = heat;
     if (i < n)
       dt_min = std::min(dt_min, p.h_p[i] / (c_i + vi.norm()));

@@ -51,6 +51,7 @@ struct Particles {
   std::vector<Mat3> R_p;         // artificial stress R_i (METHOD.md §2), Pa m⁶/kg²
   std::vector<int> neighbours_p; // neighbour count (within 2h), for output
   std::vector<Vec3> fc_p;        // contact force on the particle (part of f_p), N
+  std::vector<Vec3> fm_p;        // force from mirror images: the symmetry planes' reaction, N
 
   Index size() const { return real; }
   Index rows() const { return real + background; }
@@ -66,7 +67,7 @@ struct Particles {
         visit(xsph_p);
     visit(u_p), visit(G_p), visit(de_p);
     visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(R_p), visit(neighbours_p),
-        visit(fc_p);
+        visit(fc_p), visit(fm_p);
   }
 };
 

@@ -123,6 +123,10 @@ void Simulation::step(double dt) {
   for (Index i = 0; i < n; ++i)
     v[i] += (dt_v / m[i]) * f[i];
   particles_.kick(dt_v);
+  // The symmetry planes' push on the particles is an external reaction (the mirrored half).
+  const Vec3 mirror_impulse = dt_v * particles_.mirror_force();
+  external_impulse_ += mirror_impulse;
+  impulse_scale_ += mirror_impulse.norm();
   const auto index_of = [this](Index id) { return particles_.index_of(id); };
   ties_.merge(particles_.particles(), nodes_, index_of);
   if (!particle_boundaries_.empty()) {
