@@ -1,6 +1,7 @@
 #include "solver/coupling/background_particles.hpp"
 
 #include "solver/core/parallel.hpp"
+#include "solver/fem/nodal_stress.hpp"
 
 namespace sphfem {
 
@@ -10,15 +11,12 @@ void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
 #pragma omp parallel for schedule(static) if (count > parallel_min_items)
   for (Index k = 0; k < count; ++k) {
     const Index b = p.real + k, i = nodes_[k];
-    Mat3 sigma = Mat3::Zero();
+    const Mat3 sigma = nodal_stress(elements, around, i);
     double mass = 0, volume = 0;
     for (Index entry : around.around(i)) {
-      const Index e = entry / 8;
-      sigma += elements.V_e[e] * (elements.S_e[e] - elements.p_e[e] * Mat3::Identity());
-      mass += elements.mass_e[e];
-      volume += elements.V_e[e];
+      mass += elements.mass_e[entry / 8];
+      volume += elements.V_e[entry / 8];
     }
-    sigma /= volume;
     p.x_p[b] = nodes.x_n[i];
     p.v_p[b] = p.u_p[b] = nodes.v_n[i];
     p.m_p[b] = nodes.m_n[i];

@@ -79,8 +79,7 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
         G += p.m_p[j] * (p.v_p[j] - vb) * grad.transpose();
     }
     M /= p.rho_p[b];
-    p.C_p[b] = spec.gradient_correction && M.determinant() > 1e-3 ? Mat3(M.inverse())
-                                                                  : Mat3(Mat3::Identity());
+    p.C_p[b] = gradient_correction(M, spec.gradient_correction);
     const Mat3 A_new = total_stress(p, b) * p.C_p[b].transpose() / (p.rho_p[b] * p.rho_p[b]);
     p.de_p[b] = dt * p.m_p[b] * (0.5 * (p.A_p[b] + A_new)).cwiseProduct(G).sum();
     p.e_p[b] += p.de_p[b];
@@ -122,11 +121,9 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
     // M = −(1/ρ_i) Σ_j m_j x_ij ⊗ ∇W, the gradient G C/ρ_i of every linear field is exact, also
     // at free surfaces where the kernel support is cut. The momentum pair term uses the same C
     // (A = σ Cᵀ/ρ², the transpose of this gradient), so stress power and force work agree pair
-    // by pair, and a uniform stress loads only the surface. Identity where M is too degenerate
-    // to invert (a nearly isolated particle) or the correction is off.
+    // by pair, and a uniform stress loads only the surface.
     M /= p.rho_p[i];
-    const Mat3 C = spec.gradient_correction && M.determinant() > 1e-3 ? Mat3(M.inverse())
-                                                                      : Mat3(Mat3::Identity());
+    const Mat3 C = gradient_correction(M, spec.gradient_correction);
     p.C_p[i] = C;
     p.G_p[i] = G * C;
     p.L_p[i] = p.G_p[i] / p.rho_p[i];

@@ -70,8 +70,7 @@ TractionWeights surface_traction_weights(const Model& model, int body, const Par
       for_each_pair(model, band, list, a, [&](Index b, const Vec3& x_ij, double dW_r) {
         M -= (model.m_p[band[b]] / model.rho_p[band[a]] * dW_r) * x_ij * x_ij.transpose();
       });
-      if (M.determinant() > 1e-3)
-        C[a] = M.inverse();
+      C[a] = sphfem::gradient_correction(M, true);
     }
 
   // w_i = −n · g_i. Shares can be negative (with the correction, the third and fourth layers

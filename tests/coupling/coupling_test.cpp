@@ -52,12 +52,19 @@ template <class Velocity> void set_velocities(Simulation& sim, Velocity velocity
 } // namespace
 
 TEST(Attachment, TagsTheInterface) {
+  // The fixture's brute-force tags, which the tests here run on, against the geometry and
+  // against the mesher's own (grid-based) tagging of the same case.
   test::Coupled c(glued_blocks(1e-6), {{"top", "bottom"}});
   // FE nodes within 2h = 2.4 mm of a particle: the layers z = 5, 6, 7 mm (z = 8 is 3 mm from
   // the top particle layer): 3 × 25 nodes.
   EXPECT_EQ(c.model.background_nodes.size(), 75u);
   // Particles within h_i + h_b = 2.4 mm of a background node: layers z = 5, 4, 3 mm.
   EXPECT_EQ(std::count(c.model.interface_p.begin(), c.model.interface_p.end(), 1), 75);
+  const Model meshed = mesh_case(c.spec);
+  EXPECT_EQ(meshed.background_nodes, c.model.background_nodes);
+  EXPECT_EQ(meshed.h_background, c.model.h_background);
+  EXPECT_EQ(meshed.spacing_background, c.model.spacing_background);
+  EXPECT_EQ(meshed.interface_p, c.model.interface_p);
 }
 
 TEST(Attachment, FreeCoupledBodyConservesMomentum) {
