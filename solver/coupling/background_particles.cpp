@@ -14,13 +14,16 @@ void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
     const Mat3 sigma = nodal_stress(elements, around, i);
     double mass = 0, volume = 0;
     for (Index entry : around.around(i)) {
+      if (elements.eroded_e[entry / 8])
+        continue;
       mass += elements.mass_e[entry / 8];
       volume += elements.V_e[entry / 8];
     }
     p.x_p[b] = nodes.x_n[i];
     p.v_p[b] = p.u_p[b] = nodes.v_n[i];
     p.m_p[b] = nodes.m_n[i];
-    p.rho_p[b] = mass / volume;
+    if (volume > 0) // else every element around the node is eroded: the density stays
+      p.rho_p[b] = mass / volume;
     p.p_p[b] = -sigma.trace() / 3.0;
     p.S_p[b] = sigma + p.p_p[b] * Mat3::Identity();
     p.f_p[b] = nodes.f_int_n[i];

@@ -3,6 +3,7 @@
 #include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
 #include "solver/fem/hex8.hpp"
+#include "solver/material/material_point.hpp"
 
 #include <cmath>
 #include <limits>
@@ -27,9 +28,18 @@ double bulk_viscosity(double rho, double length, double c, double trace_D, const
           fem.bulk_viscosity_linear * c * trace_D);
 }
 
+// Removes a failed element of an eroding material: no stress and no force from now on.
+void erode(HexElements& e, Index k) {
+  e.eroded_e[k] = 1;
+  e.S_e[k].setZero();
+  e.p_e[k] = e.q_e[k] = 0;
+  e.f_e[k].fill(Vec3::Zero());
+  e.hg_e[k].fill(Vec3::Zero());
+}
+
 } // namespace
 
-double update_hex_elements(const HexStepInput& in, const std::vector<ElasticConstants>& materials,
+double update_hex_elements(const HexStepInput& in, const std::vector<Material>& materials,
                            const FemSpec& fem, HexElements& e) {
   const Index n = e.size();
   const bool stiffness = fem.hourglass_form == HourglassForm::Stiffness;
@@ -41,8 +51,10 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
     reduction(min                                                                                  \
               : dt_min, first_inverted) if (n > parallel_min_items / 16)
   for (Index k = 0; k < n; ++k) {
+    if (e.eroded_e[k])
+      continue;
     const Hex& nodes = e.nodes_e[k];
-    const ElasticConstants& mat = materials[e.material_e[k]];
+    const Material& mat = materials[e.material_e[k]];
     const HexPoints x1 = gather(in.x_new, nodes);
     const HexPoints v = gather(in.v_half, nodes);
     const Hex8Gradient g = hex8_gradient(x1);
@@ -51,7 +63,7 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
       continue;
     }
     const double rho = e.mass_e[k] / g.volume;
-    const double c = std::sqrt(mat.p_wave_modulus() / rho);
+    const double c = mat.sound_speed(rho, e.e_int_e[k] / e.V0_e[k]);
     const double length = hex8_characteristic_length(x1, g.volume);
     double trace_D = 0;
 
@@ -65,7 +77,14 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
       const Mat3 W = 0.5 * (L - L.transpose());
       trace_D = D.trace();
       const Mat3 sigma_old = e.sigma(k);
-      elastic_update(mat, D, W, dt, e.S_e[k], e.p_e[k]);
+      // Pressure: the EOS at the new density, else the elastic rate form −K tr D.
+      double pressure = mat.eos ? mat.pressure(rho, e.e_int_e[k] / e.V0_e[k])
+                                : e.p_e[k] - mat.elastic.bulk * trace_D * dt;
+      if (mat.inelastic())
+        update_point(mat, D, W, dt, rho, pressure, e.S_e[k], e.point_e[k]);
+      else
+        elastic_deviator_update(mat.elastic, D, W, dt, e.S_e[k]);
+      e.p_e[k] = pressure;
       e.q_e[k] = bulk_viscosity(rho, length, c, trace_D, fem);
       const Mat3 sigma_mid = 0.5 * (sigma_old + e.sigma(k));
       e.de_int_e[k] = dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
@@ -89,9 +108,13 @@ double update_hex_elements(const HexStepInput& in, const std::vector<ElasticCons
     for (int a = 0; a < 4; ++a)
       hourglass_work += resist[a].dot(0.5 * (e.hg_mode_e[k][a] + mode[a]));
     e.e_hg_e[k] += dt * hourglass_work;
+    if (mat.erosion && e.point_e[k].failed) {
+      erode(e, k);
+      continue;
+    }
     if (stiffness) {
       const double k_hg =
-          fem.hourglass_coefficient * mat.p_wave_modulus() * std::cbrt(g.volume) / 4.0;
+          fem.hourglass_coefficient * mat.elastic.p_wave_modulus() * std::cbrt(g.volume) / 4.0;
       for (int a = 0; a < 4; ++a)
         resist[a] += dt * k_hg * mode[a];
     } else {

@@ -1,6 +1,6 @@
 // Nodal stress as the volume-weighted average of the adjacent elements' stress
 // σ = S − p I (bulk viscosity excluded, as explicit codes report it). Used for probes and
-// point output, and later for background particles (METHOD.md §4.1).
+// point output, and for background particles (METHOD.md §4.1). Eroded elements are gone.
 #pragma once
 
 #include "solver/fem/node_gather.hpp"
@@ -15,6 +15,8 @@ inline Mat3 nodal_stress(const HexElements& e, const NodeGather& around, Index n
   double volume = 0;
   for (Index entry : around.around(node)) {
     const Index k = entry / 8;
+    if (e.eroded_e[k])
+      continue;
     sum += e.V_e[k] * (e.S_e[k] - e.p_e[k] * Mat3::Identity());
     volume += e.V_e[k];
   }

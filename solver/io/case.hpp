@@ -4,6 +4,10 @@
 
 #include "solver/core/time_function.hpp"
 #include "solver/core/types.hpp"
+#include "solver/material/adiabatic_heating.hpp"
+#include "solver/material/ductile_damage.hpp"
+#include "solver/material/johnson_cook.hpp"
+#include "solver/material/mie_gruneisen.hpp"
 
 #include <array>
 #include <filesystem>
@@ -15,10 +19,15 @@ namespace sphfem {
 
 struct MaterialSpec {
   std::string name;
-  std::string model;         // "elastic"
+  std::string model;         // "elastic" or "johnson_cook"
   double density = 0;        // kg/m³
   double youngs_modulus = 0; // Pa
   double poisson_ratio = 0;
+  std::optional<JohnsonCook> johnson_cook{}; // model johnson_cook: the flow stress
+  std::optional<DuctileDamage> damage{};     // johnson_cook only
+  std::optional<AdiabaticHeating> heating{}; // johnson_cook only
+  std::optional<MieGruneisen> eos{};         // replaces p = K (ρ/ρ0 − 1)
+  bool erosion = false;                      // failed hexahedra are removed
 };
 
 struct BoxGeometry {

@@ -3,6 +3,7 @@
 #include "solver/io/case_reader.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/material/material.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -222,6 +223,7 @@ public:
       : file_(std::move(file)), folder_(std::move(folder)), overrides_(std::move(overrides)) {}
 
   Case read(const YAML::Node& root) const;
+  std::vector<MaterialSpec> read_materials(const YAML::Node& root) const;
 
 private:
   std::string file_;
@@ -275,6 +277,11 @@ private:
   // Sections.
   TimeSpec time(const Located& at) const;
   MaterialSpec material(const Entry& entry) const;
+  JohnsonCook johnson_cook(const Located& at) const;
+  RateForm rate_form(const Located& at) const;
+  DuctileDamage damage(const Located& at, RateForm strength_form) const;
+  AdiabaticHeating heating(const Located& at) const;
+  MieGruneisen mie_gruneisen(const Located& at) const;
   BodySpec body(const Entry& entry, const std::vector<MaterialSpec>& materials) const;
   GeometrySpec geometry(const Located& at, Method method) const;
   std::filesystem::path geometry_file(const Located& at) const;
@@ -461,16 +468,101 @@ TimeSpec Reader::time(const Located& at) const {
 
 MaterialSpec Reader::material(const Entry& entry) const {
   const Located& at = entry.value;
-  check_map(at, {"model", "density", "youngs_modulus", "poisson_ratio"});
+  check_map(at, {"model", "density", "youngs_modulus", "poisson_ratio", "johnson_cook", "damage",
+                 "heating", "eos", "erosion"});
   MaterialSpec spec;
   spec.name = entry.name;
-  spec.model = one_of(required(at, "model", "material model: elastic"), {"elastic"}, "model");
+  const Located model = required(at, "model", "material model: " + comma_list(material_models));
+  spec.model = one_of(model, material_models, "model");
   spec.density = number(required(at, "density", "mass density, kg/m³"), "> 0 kg/m³", positive);
   spec.youngs_modulus =
       number(required(at, "youngs_modulus", "Young's modulus, Pa"), "> 0 Pa", positive);
   spec.poisson_ratio = number(required(at, "poisson_ratio", "Poisson's ratio"), "in (-1, 0.5)",
                               [](double v) { return v > -1 && v < 0.5; });
+  const bool plastic = spec.model == "johnson_cook";
+  if (plastic)
+    spec.johnson_cook =
+        johnson_cook(required(at, "johnson_cook", "the Johnson–Cook constants A, B, n, C, ..."));
+  for (const char* key : {"johnson_cook", "damage", "heating"})
+    if (const Located block = child(at, key); block.node.IsDefined() && !plastic)
+      fail(block, std::string("needs model: johnson_cook (an elastic material has no ") +
+                      (std::string_view(key) == "johnson_cook" ? "flow stress" : key) + ")");
+  if (const Located block = child(at, "damage"); block.node.IsDefined())
+    spec.damage = damage(block, spec.johnson_cook->rate_form);
+  if (const Located block = child(at, "heating"); block.node.IsDefined())
+    spec.heating = heating(block);
+  if (const Located block = child(at, "eos"); block.node.IsDefined())
+    spec.eos = mie_gruneisen(block);
+  if (const Located erosion = child(at, "erosion"); erosion.node.IsDefined()) {
+    spec.erosion = flag(erosion);
+    if (spec.erosion && !spec.damage)
+      fail(erosion, "needs a damage block: only failed elements are eroded");
+  }
   return spec;
+}
+
+JohnsonCook Reader::johnson_cook(const Located& at) const {
+  check_map(at, {"A", "B", "n", "C", "rate_form", "reference_strain_rate", "m",
+                 "melting_temperature", "reference_temperature"});
+  JohnsonCook jc;
+  jc.A = number(required(at, "A", "initial yield stress, Pa"), "> 0 Pa", positive);
+  jc.B = number(required(at, "B", "hardening modulus, Pa"), ">= 0 Pa", non_negative);
+  jc.n = number(required(at, "n", "hardening exponent"), "> 0", positive);
+  jc.C = number(required(at, "C", "strain-rate sensitivity"), ">= 0", non_negative);
+  jc.rate_form = rate_form(required(at, "rate_form", "power (1 + ṙ*)^C or log 1 + C ln ṙ*"));
+  jc.reference_strain_rate =
+      number(required(at, "reference_strain_rate", "reference plastic strain rate ṗ0, 1/s"),
+             "> 0 1/s", positive);
+  jc.m = number_or(at, "m", jc.m, "> 0", positive);
+  jc.reference_temperature =
+      number_or(at, "reference_temperature", jc.reference_temperature, "> 0 K", positive);
+  jc.melting_temperature =
+      number_or(at, "melting_temperature", jc.melting_temperature, "> reference_temperature, K",
+                [&jc](double v) { return v > jc.reference_temperature; });
+  return jc;
+}
+
+RateForm Reader::rate_form(const Located& at) const {
+  return choice<RateForm>(at, "rate form", {{"power", RateForm::Power}, {"log", RateForm::Log}});
+}
+
+DuctileDamage Reader::damage(const Located& at, RateForm strength_form) const {
+  check_map(at, {"D1", "D2", "D3", "D4", "D5", "rate_form", "critical_damage", "threshold_strain"});
+  DuctileDamage d;
+  d.D1 = number(required(at, "D1", "fracture strain constant"));
+  d.D2 = number(required(at, "D2", "fracture strain constant"));
+  d.D3 = number(required(at, "D3", "triaxiality exponent"));
+  d.D4 = number(required(at, "D4", "rate sensitivity of the fracture strain"));
+  d.D5 = number_or(at, "D5", d.D5, "a number", [](double) { return true; });
+  d.rate_form = strength_form;
+  if (const Located form = child(at, "rate_form"); form.node.IsDefined())
+    d.rate_form = rate_form(form);
+  d.critical_damage = number_or(at, "critical_damage", d.critical_damage, "in (0, 1]",
+                                [](double v) { return v > 0 && v <= 1; });
+  d.threshold_strain = number_or(at, "threshold_strain", d.threshold_strain, ">= 0", non_negative);
+  return d;
+}
+
+AdiabaticHeating Reader::heating(const Located& at) const {
+  check_map(at, {"taylor_quinney", "specific_heat"});
+  AdiabaticHeating h;
+  h.taylor_quinney = number_or(at, "taylor_quinney", h.taylor_quinney, "in [0, 1]",
+                               [](double v) { return v >= 0 && v <= 1; });
+  h.specific_heat = number(required(at, "specific_heat", "specific heat C_p, J/(kg K)"),
+                           "> 0 J/(kg K)", positive);
+  return h;
+}
+
+MieGruneisen Reader::mie_gruneisen(const Located& at) const {
+  check_map(at, {"model", "c0", "s", "gamma0", "a"});
+  one_of(required(at, "model", "equation of state: mie_gruneisen"), {"mie_gruneisen"}, "eos");
+  MieGruneisen eos;
+  eos.c0 = number(required(at, "c0", "bulk sound speed, m/s"), "> 0 m/s", positive);
+  eos.s = number(required(at, "s", "slope of the U_s–u_p Hugoniot"), ">= 1",
+                 [](double v) { return v >= 1; });
+  eos.gamma0 = number(required(at, "gamma0", "Grüneisen coefficient"), ">= 0", non_negative);
+  eos.a = number_or(at, "a", eos.a, ">= 0", non_negative);
+  return eos;
 }
 
 // A geometry file path, relative to the case file's folder; the file must exist. Returns the
@@ -793,6 +885,18 @@ OutputSpec Reader::output(const Located& at) const {
   return spec;
 }
 
+// A material library holds only `materials`; any other file is read as a whole case.
+std::vector<MaterialSpec> Reader::read_materials(const YAML::Node& node) const {
+  if (!node.IsMap() || node.size() != 1 || !node["materials"])
+    return read(node).materials;
+  const Located root{node, ""};
+  std::vector<MaterialSpec> out;
+  for (const Entry& entry :
+       named_entries(required(root, "materials", "materials by name"), "material"))
+    out.push_back(material(entry));
+  return out;
+}
+
 Case Reader::read(const YAML::Node& node) const {
   const Located root{node, ""};
   check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
@@ -831,8 +935,13 @@ Case Reader::read(const YAML::Node& node) const {
 
 } // namespace
 
-Case read_case_text(const std::string& yaml_text, const std::filesystem::path& file,
-                    const std::vector<std::string>& overrides) {
+namespace {
+
+// Parses `yaml_text`, applies the overrides and hands the tree to `read(reader, root)`,
+// turning YAML and other failures into located errors.
+template <class Read>
+auto parse(const std::string& yaml_text, const std::filesystem::path& file,
+           const std::vector<std::string>& overrides, Read read) {
   const std::string name = file.string();
   try {
     YAML::Node root = YAML::Load(yaml_text);
@@ -841,9 +950,7 @@ Case read_case_text(const std::string& yaml_text, const std::filesystem::path& f
       override_paths.push_back(apply_override(root, text));
     std::error_code no_folder;
     const std::filesystem::path folder = std::filesystem::absolute(file, no_folder).parent_path();
-    Case result = Reader(name, folder, std::move(override_paths)).read(root);
-    result.file = file;
-    return result;
+    return read(Reader(name, folder, std::move(override_paths)), root);
   } catch (const Error&) {
     throw;
   } catch (const YAML::ParserException& e) {
@@ -853,16 +960,45 @@ Case read_case_text(const std::string& yaml_text, const std::filesystem::path& f
   }
 }
 
-Case read_case(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+std::string file_text(const std::filesystem::path& file, std::string_view what) {
   std::error_code ignored;
   if (std::filesystem::is_directory(file, ignored))
-    throw Error(file.string() + ": cannot open the case file (it is a directory)");
+    throw Error(file.string() + ": cannot open the " + std::string(what) + " (it is a directory)");
   std::ifstream in(file, std::ios::binary);
   if (!in)
-    throw Error(file.string() + ": cannot open the case file (" + std::strerror(errno) + ")");
+    throw Error(file.string() + ": cannot open the " + std::string(what) + " (" +
+                std::strerror(errno) + ")");
   std::ostringstream text;
   text << in.rdbuf();
-  return read_case_text(text.str(), file, overrides);
+  return text.str();
+}
+
+} // namespace
+
+Case read_case_text(const std::string& yaml_text, const std::filesystem::path& file,
+                    const std::vector<std::string>& overrides) {
+  Case result = parse(yaml_text, file, overrides, [](const Reader& reader, const YAML::Node& root) {
+    return reader.read(root);
+  });
+  result.file = file;
+  return result;
+}
+
+Case read_case(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  return read_case_text(file_text(file, "case file"), file, overrides);
+}
+
+std::vector<MaterialSpec> read_materials_text(const std::string& yaml_text,
+                                              const std::filesystem::path& file,
+                                              const std::vector<std::string>& overrides) {
+  return parse(yaml_text, file, overrides, [](const Reader& reader, const YAML::Node& root) {
+    return reader.read_materials(root);
+  });
+}
+
+std::vector<MaterialSpec> read_materials(const std::filesystem::path& file,
+                                         const std::vector<std::string>& overrides) {
+  return read_materials_text(file_text(file, "materials file"), file, overrides);
 }
 
 } // namespace sphfem

@@ -22,4 +22,12 @@ Case read_case(const std::filesystem::path& file, const std::vector<std::string>
 Case read_case_text(const std::string& yaml_text, const std::filesystem::path& file,
                     const std::vector<std::string>& overrides = {});
 
+// The materials of a material library (a file holding only `materials:`, as in
+// cases/materials/) or of a whole case file, validated as read_case() validates them.
+std::vector<MaterialSpec> read_materials(const std::filesystem::path& file,
+                                         const std::vector<std::string>& overrides = {});
+std::vector<MaterialSpec> read_materials_text(const std::string& yaml_text,
+                                              const std::filesystem::path& file,
+                                              const std::vector<std::string>& overrides = {});
+
 } // namespace sphfem

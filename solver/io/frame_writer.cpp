@@ -6,11 +6,13 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkIntArray.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
+#include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -40,10 +42,34 @@ vtkSmartPointer<vtkIntArray> int_array(const char* name, const std::vector<int>&
 
 } // namespace
 
+// The material history of inelastic materials (absent from runs without one): plastic
+// strain, damage, temperature (K) and a failure flag (killed particles, eroded elements).
+struct FrameWriter::History {
+  vtkSmartPointer<vtkDoubleArray> plastic_strain, damage, temperature;
+  vtkSmartPointer<vtkIntArray> failed;
+
+  History(vtkIdType n, const char* flag, vtkDataSetAttributes* into)
+      : plastic_strain(double_array("plastic_strain", 1, n)), damage(double_array("damage", 1, n)),
+        temperature(double_array("temperature", 1, n)),
+        failed(int_array(flag, std::vector<int>(static_cast<std::size_t>(n), 0))) {
+    for (auto& a : {plastic_strain, damage, temperature})
+      into->AddArray(a);
+    into->AddArray(failed);
+  }
+  void set(vtkIdType k, const MaterialPoint& point, int flag) {
+    plastic_strain->SetValue(k, point.plastic_strain);
+    damage->SetValue(k, point.damage);
+    temperature->SetValue(k, point.temperature);
+    failed->SetValue(k, flag);
+  }
+};
+
 struct FrameWriter::Grid {
   vtkSmartPointer<vtkUnstructuredGrid> grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkSmartPointer<vtkPoints> points = vtkSmartPointer<vtkPoints>::New();
   vtkSmartPointer<vtkDoubleArray> displacement, velocity, stress, von_mises, pressure, density;
+  std::unique_ptr<History> history;
+  vtkSmartPointer<vtkUnsignedCharArray> ghost; // eroded elements hidden in ParaView
 };
 
 struct FrameWriter::Cloud {
@@ -52,6 +78,7 @@ struct FrameWriter::Cloud {
   vtkSmartPointer<vtkDoubleArray> displacement, velocity, stress, von_mises, pressure, density, h,
       internal_energy;
   vtkSmartPointer<vtkIntArray> neighbours, body_id, id;
+  std::unique_ptr<History> history;
 };
 
 namespace {
@@ -116,6 +143,8 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
       pd->AddArray(a);
     for (auto& a : {c.neighbours, c.body_id, c.id})
       pd->AddArray(a);
+    if (particles.inelastic)
+      c.history = std::make_unique<History>(n, "killed", pd);
   }
   if (e.size() == 0)
     return;
@@ -147,6 +176,13 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
   for (auto& a : {g.stress, g.von_mises, g.pressure, g.density})
     cd->AddArray(a);
   cd->AddArray(int_array("body_id", e.body_e));
+  if (e.inelastic) {
+    g.history = std::make_unique<History>(ne, "eroded", cd);
+    g.ghost = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    g.ghost->SetName(vtkDataSetAttributes::GhostArrayName());
+    g.ghost->SetNumberOfTuples(ne);
+    cd->AddArray(g.ghost);
+  }
 }
 
 FrameWriter::~FrameWriter() = default;
@@ -170,6 +206,10 @@ void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
       g.von_mises->SetValue(k, von_mises(s));
       g.pressure->SetValue(k, e.p_e[k]);
       g.density->SetValue(k, e.mass_e[k] / e.V_e[k]);
+      if (g.history) {
+        g.history->set(k, e.point_e[k], e.eroded_e[k]);
+        g.ghost->SetValue(k, e.eroded_e[k] ? vtkDataSetAttributes::HIDDENCELL : 0);
+      }
     }
     std::snprintf(name, sizeof name, "fe_%06d.vtu", frame_count_);
     write_vtu(out_dir_ / "frames" / name, g.grid);
@@ -194,6 +234,8 @@ void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
       c.neighbours->SetValue(i, p.neighbours_p[i]);
       c.body_id->SetValue(i, p.body_p[i]);
       c.id->SetValue(i, p.id_p[i]);
+      if (c.history)
+        c.history->set(i, p.point_p[i], p.kill_p[i] != Kill::None);
     }
     c.points->Modified();
     std::snprintf(name, sizeof name, "sph_%06d.vtu", frame_count_);

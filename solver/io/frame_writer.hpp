@@ -8,6 +8,9 @@
 // Particle point data: displacement, velocity, stress, von_mises, pressure, density, h (m),
 // internal_energy (specific, J/kg), neighbours (count within 2h), body_id, id (index in
 // model.h5).
+// With a Johnson–Cook material, also plastic_strain, damage and temperature (K) on particles
+// and cells, killed (particles, 0/1) and eroded (cells, 0/1); eroded cells are marked hidden
+// in the vtkGhostType array, so ParaView does not draw them.
 // Verified by tests/e2e/run_test.cpp (frames re-read with VTK's reader).
 #pragma once
 
@@ -37,6 +40,7 @@ private:
   void write_collection() const;
 
   std::filesystem::path out_dir_;
+  struct History;
   struct Grid;
   struct Cloud;
   std::unique_ptr<Grid> grid_;   // null without elements

@@ -100,6 +100,7 @@ void MirrorParticles::refresh_stress(Particles& p, Index first) const {
     p.h_p[g] = p.h_p[i];
     p.S_p[g] = R * p.S_p[i] * R.transpose();
     p.p_p[g] = p.p_p[i];
+    p.kill_p[g] = p.kill_p[i];
     p.C_p[g] = R * p.C_p[i] * R.transpose();
     p.R_p[g] = R * p.R_p[i] * R.transpose();
     p.f_p[g] = R * p.f_p[i];

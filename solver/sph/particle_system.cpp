@@ -22,7 +22,7 @@ template <class T> void permute(std::vector<T>& field, const std::vector<Index>&
 } // namespace
 
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
-                               const std::vector<ElasticConstants>& materials, const FeState* fe)
+                               const std::vector<Material>& materials, const FeState* fe)
     : spec_(c.sph), materials_(materials), background_(model.background_nodes), mirror_(c),
       contact_(c), dt_stable_(std::numeric_limits<double>::infinity()) {
   const Index n = model.particle_count(), total = n + background_.size();
@@ -45,7 +45,7 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     p.x0_p[i] = p.x_p[i] = real ? model.x_p[i] : model.x_n[node];
     p.v_p[i] = c.bodies[body].velocity;
     p.m_p[i] = real ? model.m_p[i] : 0.0;
-    p.rho0_p[i] = p.rho_p[i] = real ? model.rho_p[i] : materials[body].density;
+    p.rho0_p[i] = p.rho_p[i] = real ? model.rho_p[i] : materials[body].elastic.density;
     p.h0_p[i] = p.h_p[i] = real ? model.h_p[i] : model.h_background[i - n];
     p.dp_p[i] = real ? model.spacing_b[body] : model.spacing_background[i - n];
     p.S_p[i].setZero();
@@ -53,6 +53,9 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     p.body_p[i] = body;
     p.group_p[i] = group[body];
     p.material_p[i] = body; // one material entry per body
+    p.point_p[i] = MaterialPoint::initial(materials[body]);
+    p.kill_p[i] = Kill::None;
+    p.inelastic = p.inelastic || (real && materials[body].inelastic());
     p.id_p[i] = real ? i : -1;
     p.R_p[i].setZero();
     p.C_p[i].setIdentity(); // background particles are never corrected

@@ -12,7 +12,7 @@
 #include "solver/coupling/background_particles.hpp"
 #include "solver/coupling/contact.hpp"
 #include "solver/io/case.hpp"
-#include "solver/material/elastic.hpp"
+#include "solver/material/material.hpp"
 #include "solver/sph/mirror_particles.hpp"
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/model.hpp"
@@ -33,7 +33,7 @@ class ParticleSystem {
 public:
   ParticleSystem() = default;
   // fe: required when the model has background nodes.
-  ParticleSystem(const Case& c, const Model& model, const std::vector<ElasticConstants>& materials,
+  ParticleSystem(const Case& c, const Model& model, const std::vector<Material>& materials,
                  const FeState* fe = nullptr);
 
   bool empty() const { return particles_.total() == 0; }
@@ -70,7 +70,7 @@ private:
   void place_mirrors();
 
   SphSpec spec_;
-  std::vector<ElasticConstants> materials_;
+  std::vector<Material> materials_;
   Particles particles_;
   NeighbourSearch search_;
   BackgroundParticles background_;

@@ -3,6 +3,7 @@
 #include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
 #include "solver/material/jaumann.hpp"
+#include "solver/material/material_point.hpp"
 #include "solver/sph/kernel.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -42,8 +43,10 @@ double power(double x, int n) {
   return result;
 }
 
-double sound_speed(const ElasticConstants& c, double rho) {
-  return std::sqrt(c.p_wave_modulus() / rho);
+// Internal energy per initial volume (J/m³), the EOS's E: e V0⁻¹ with V0 = m/ρ0. Background
+// and mirror rows carry no energy of their own.
+double energy_density(const Particles& p, Index i) {
+  return i < p.size() ? p.e_p[i] * p.rho0_p[i] / p.m_p[i] : 0.0;
 }
 
 } // namespace
@@ -61,12 +64,13 @@ namespace {
 void background_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec,
                            double dt) {
   const Index n = p.size(), rows = p.rows();
+  const bool excluded = p.excluded > 0;
 #pragma omp parallel for schedule(static) if (rows - n > parallel_min_items / 16)
   for (Index b = n; b < rows; ++b) {
     const Vec3 xb = p.x_p[b] - 0.5 * dt * p.u_p[b], vb = p.v_p[b];
     Mat3 G = Mat3::Zero(), M = Mat3::Zero();
     for (Index j : list.of(b)) {
-      if (p.group_p[j] != p.group_p[b])
+      if (p.group_p[j] != p.group_p[b] || (excluded && p.out_of_sums(j)))
         continue;
       const Vec3 x_bj = xb - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
       const double r = x_bj.norm();
@@ -92,12 +96,14 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
 
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
   const Index n = p.size();
+  const bool excluded = p.excluded > 0;
 #pragma omp parallel for schedule(static) if (n > parallel_min_items / 16)
   for (Index i = 0; i < n; ++i) {
     // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity): a rigid rotation
     // then has an exactly skew velocity gradient, as for the hexahedra.
     const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
     const int group = p.group_p[i];
+    const bool out = excluded && p.out_of_sums(i);
     Mat3 M = Mat3::Zero(), G = Mat3::Zero();
     Vec3 xsph = Vec3::Zero();
     double drho = 0;
@@ -108,9 +114,16 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
       const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
       if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
         continue;
-      ++count;
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
       const Vec3 v_ji = p.v_p[j] - vi;
+      // A particle killed in tension is out of the others' sums and they of its, but its own
+      // density still follows all its neighbours, so that it sees when it is compressed again.
+      if (out || (excluded && p.out_of_sums(j))) {
+        if (out)
+          drho -= p.m_p[j] * v_ji.dot(grad);
+        continue;
+      }
+      ++count;
       G += p.m_p[j] * v_ji * grad.transpose();
       M -= p.m_p[j] * x_ij * grad.transpose();
       drho -= p.m_p[j] * v_ji.dot(grad);
@@ -134,13 +147,13 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
   background_kinematics(p, list, spec, dt);
 }
 
-void sph_material_update(Particles& p, const std::vector<ElasticConstants>& materials,
-                         const SphSpec& spec, double dt) {
+void sph_material_update(Particles& p, const std::vector<Material>& materials, const SphSpec& spec,
+                         double dt) {
   const Index n = p.size();
-  Index first_bad = n;
-#pragma omp parallel for schedule(static) reduction(min : first_bad) if (n > parallel_min_items / 4)
+  Index first_bad = n, excluded = 0;
+#pragma omp parallel for schedule(static) reduction(min : first_bad) reduction(+ : excluded) if (n > parallel_min_items / 4)
   for (Index i = 0; i < n; ++i) {
-    const ElasticConstants& mat = materials[p.material_p[i]];
+    const Material& mat = materials[p.material_p[i]];
     const double rho_old = p.rho_p[i];
     const double rho = rho_old + dt * p.drho_p[i];
     if (!(rho > 0)) {
@@ -153,8 +166,17 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
     const Mat3& L = p.L_p[i];
     const Mat3 D = 0.5 * (L + L.transpose()), W = 0.5 * (L - L.transpose());
     const Mat3 sigma_old = total_stress(p, i);
-    elastic_deviator_update(mat, D, W, dt, p.S_p[i]);
-    p.p_p[i] = elastic_pressure(mat, rho);
+    double pressure = mat.pressure(rho, energy_density(p, i));
+    if (mat.inelastic()) {
+      update_point(mat, D, W, dt, rho, pressure, p.S_p[i], p.point_p[i]);
+      if (p.point_p[i].failed) {
+        p.kill_p[i] = pressure > 0 ? Kill::Compressed : Kill::Tension;
+        excluded += p.kill_p[i] == Kill::Tension;
+      }
+    } else {
+      elastic_deviator_update(mat.elastic, D, W, dt, p.S_p[i]);
+    }
+    p.p_p[i] = pressure;
     // Stress work in the form that matches the symmetric momentum equation pair by pair,
     // m_i (σ/ρ²) : Σ_j m_j v_ji ⊗ ∇W C = m_i σ : L / ρ, so the total energy is conserved.
     const Mat3 sigma_mid = 0.5 * (sigma_old + total_stress(p, i));
@@ -167,17 +189,19 @@ void sph_material_update(Particles& p, const std::vector<ElasticConstants>& mate
   SPHFEM_CHECK(first_bad == n, "particle ", first_bad < n ? p.id_p[first_bad] : -1,
                " reached a non-positive density: the particle set is being crushed; the run is "
                "unstable (reduce sph.cfl)");
+  p.excluded = excluded;
 }
 
-double sph_forces(Particles& p, const NeighbourList& list,
-                  const std::vector<ElasticConstants>& materials, const SphSpec& spec, double dt) {
+double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
+                  const SphSpec& spec, double dt) {
   const Index n = p.size(), rows = p.rows(), total = p.total();
+  const bool excluded = p.excluded > 0;
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
 #pragma omp parallel for schedule(static) if (total > parallel_min_items)
   for (Index i = 0; i < total; ++i) {
     p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() / (p.rho_p[i] * p.rho_p[i]);
-    p.c_p[i] = sound_speed(materials[p.material_p[i]], p.rho_p[i]);
+    p.c_p[i] = materials[p.material_p[i]].sound_speed(p.rho_p[i], energy_density(p, i));
     p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
   }
   // Real particles gather from every neighbour of their group (mirror images included);
@@ -199,7 +223,8 @@ double sph_forces(Particles& p, const NeighbourList& list,
       const Vec3 x_ij = xi - p.x_p[j];
       const double r = x_ij.norm();
       const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-      if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group || !(real || p.real_like(j)))
+      if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group || !(real || p.real_like(j)) ||
+          (excluded && (p.out_of_sums(i) || p.out_of_sums(j))))
         continue;
       const double rho_j = p.rho_p[j];
       const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;

@@ -4,7 +4,8 @@
 //      G = Σ_j m_j v_ji ⊗ ∇W and the gradient correction C (identity when off; m_j/ρ_i in
 //      place of METHOD's m_j/ρ_j, the same on a uniform density, so that L is exactly the
 //      gradient whose transpose the momentum equation uses), continuity rate dρ/dt, XSPH;
-//   2. material (per particle): ρ^{n+1}, h^{n+1} = h0 (ρ0/ρ)^{1/3}, Jaumann + elastic stress,
+//   2. material (per particle): ρ^{n+1}, h^{n+1} = h0 (ρ0/ρ)^{1/3}, pressure from the EOS,
+//      Jaumann + elastic or elastic–plastic deviator with damage and kill,
 //      stress work into internal energy, artificial stress R from the principal stresses;
 //   3. forces (pair loop): momentum m_i m_j (σ_i C_iᵀ/ρ_i² + σ_j C_jᵀ/ρ_j²) ∇W — METHOD's
 //      symmetric form when C = I, Bonet & Lok's corrected form otherwise: stress power and
@@ -18,7 +19,7 @@
 #pragma once
 
 #include "solver/io/case.hpp"
-#include "solver/material/elastic.hpp"
+#include "solver/material/material.hpp"
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/particles.hpp"
 
@@ -30,15 +31,18 @@ namespace sphfem {
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt);
 
 // Advances density, smoothing length and stress over dt (> 0).
-void sph_material_update(Particles& p, const std::vector<ElasticConstants>& materials,
-                         const SphSpec& spec, double dt);
+// Johnson–Cook materials take the stress update of material_point.hpp; a particle that fails
+// is killed (Particles::kill_p, METHOD.md §6).
+void sph_material_update(Particles& p, const std::vector<Material>& materials, const SphSpec& spec,
+                         double dt);
 
 // Fills f_p and heat_p; returns the stable step cfl · min h/(c + |v|) (s). The heating power
 // is taken at the velocities of the kick that will apply it, v + ½ dt f/m, predicted with the
 // previous forces and dt the step just taken: with the kick's start velocities instead, the
 // artificial stress's heat lags its work by ½ dt f²/m per pair and step, a steady energy drift
 // (2% over bar_pressed_sph).
-double sph_forces(Particles& p, const NeighbourList& list,
-                  const std::vector<ElasticConstants>& materials, const SphSpec& spec, double dt);
+// Pairs with a particle killed in tension are skipped.
+double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
+                  const SphSpec& spec, double dt);
 
 } // namespace sphfem

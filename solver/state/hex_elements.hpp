@@ -1,9 +1,12 @@
 // Hexahedral elements as a struct of arrays (STYLE.md B): connectivity, the one-point
 // integration state (deviatoric stress, pressure, bulk viscosity), energies and the nodal
-// forces each element puts on its eight nodes (gathered per node, race-free).
+// forces each element puts on its eight nodes (gathered per node, race-free). An eroded
+// element (METHOD.md §6, FE erosion) is skipped by every loop: no stress, no force; its mass
+// stays lumped at its nodes.
 #pragma once
 
 #include "solver/core/types.hpp"
+#include "solver/material/material_point.hpp"
 
 #include <array>
 #include <vector>
@@ -26,6 +29,9 @@ struct HexElements {
   std::vector<std::array<Vec3, 4>> hg_e;      // hourglass mode forces now acting, N
   std::vector<std::array<Vec3, 4>> hg_mode_e; // mode velocities they were computed from, m/s
   std::vector<std::array<Vec3, 8>> f_e;       // force of the element on each of its nodes, N
+  std::vector<MaterialPoint> point_e;         // plastic strain, damage, temperature
+  std::vector<char> eroded_e;                 // removed at failure (material erosion: true)
+  bool inelastic = false;                     // some element carries a plastic/damage history
 
   Index size() const { return static_cast<Index>(nodes_e.size()); }
   // Total stress σ = S − (p + q) I, tension positive.

@@ -3,10 +3,16 @@
 #pragma once
 
 #include "solver/core/types.hpp"
+#include "solver/material/material_point.hpp"
 
+#include <cstdint>
 #include <vector>
 
 namespace sphfem {
+
+// Particle kill (METHOD.md §6): a failed particle stays in its neighbours' sums while
+// compressed (p > 0) and drops out of them while in tension; it keeps its mass and momentum.
+enum class Kill : std::uint8_t { None, Compressed, Tension };
 
 // The arrays hold the `real` SPH particles first, then the `background` particles of FE nodes
 // (METHOD.md §4.1): copies of nodal state that appear in the real particles' sums (attachment,
@@ -17,6 +23,8 @@ struct Particles {
   Index real = 0;
   Index background = 0;
   Index mirrored_real = 0; // mirror images of real particles (the first ones after rows())
+  bool inelastic = false;  // some particle's material carries a plastic/damage history
+  Index excluded = 0;      // real particles killed and in tension (out of all sums)
 
   // State.
   std::vector<Vec3> x0_p;     // reference position, m
@@ -35,7 +43,9 @@ struct Particles {
   std::vector<int> body_p;
   std::vector<int> group_p; // bodies glued by attachment share a group; sums run within one
   std::vector<int> material_p;
-  std::vector<Index> id_p; // index in model.h5 (particles are reordered by cell)
+  std::vector<Index> id_p;            // index in model.h5 (particles are reordered by cell)
+  std::vector<MaterialPoint> point_p; // plastic strain, damage, temperature (inelastic materials)
+  std::vector<Kill> kill_p;           // particle kill state
   // Rates and scratch of the current step.
   std::vector<Vec3> f_p;         // force on the particle, N
   std::vector<Mat3> L_p;         // velocity gradient, 1/s
@@ -57,14 +67,16 @@ struct Particles {
   Index rows() const { return real + background; }
   // A real particle or the mirror image of one: what background particles pair with.
   bool real_like(Index j) const { return j < real || (j >= rows() && j < rows() + mirrored_real); }
+  // Killed and in tension: out of every other particle's sums.
+  bool out_of_sums(Index j) const { return kill_p[j] == Kill::Tension; }
   Index total() const { return static_cast<Index>(x_p.size()); }
 
   // Visits every per-particle array (for resize and reorder).
   template <class Visit> void for_each_field(Visit visit) {
     visit(x0_p), visit(x_p), visit(v_p), visit(m_p), visit(rho0_p), visit(rho_p), visit(h_p);
     visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p), visit(group_p);
-    visit(material_p), visit(id_p), visit(f_p), visit(L_p), visit(C_p), visit(drho_p),
-        visit(xsph_p);
+    visit(material_p), visit(id_p), visit(point_p), visit(kill_p), visit(f_p), visit(L_p),
+        visit(C_p), visit(drho_p), visit(xsph_p);
     visit(u_p), visit(G_p), visit(de_p);
     visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(R_p), visit(neighbours_p),
         visit(fc_p), visit(fm_p);

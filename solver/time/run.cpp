@@ -54,7 +54,8 @@ std::vector<std::string> history_columns(const Case& c, const std::vector<Probe>
   for (int b : contact_bodies(c))
     for (const char* k : {".fx", ".fy", ".fz"})
       columns.push_back("contact." + bodies[b] + k);
-  for (const char* e : {"kinetic", "internal", "hourglass", "contact", "external_work", "total"})
+  for (const char* e :
+       {"kinetic", "internal", "hourglass", "contact", "eroded", "external_work", "total"})
     columns.push_back(std::string("energy.") + e);
   return columns;
 }
@@ -73,7 +74,7 @@ void history_row(const Simulation& sim, double dt, const std::vector<Probe>& pro
     row.insert(row.end(), {f.x(), f.y(), f.z()});
   }
   row.insert(row.end(),
-             {e.kinetic, e.internal, e.hourglass, e.contact, e.external_work, e.total()});
+             {e.kinetic, e.internal, e.hourglass, e.contact, e.eroded, e.external_work, e.total()});
 }
 
 std::string format(const char* pattern, double value) {
@@ -163,20 +164,17 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   summary["threads"] = thread_count();
   summary["counts"] = {{"particles", particles}, {"nodes", nodes}, {"elements", elements}};
   summary["dt"] = {{"initial", dt0}, {"final", sim.stable_dt()}};
-  summary["energy"] = {{"kinetic", e.kinetic},
-                       {"internal", e.internal},
-                       {"hourglass", e.hourglass},
-                       {"contact", e.contact},
-                       {"external_work", e.external_work},
-                       {"total", e.total()},
-                       {"balance_error", sim.balance_error(e)}};
+  summary["energy"] = {{"kinetic", e.kinetic},     {"internal", e.internal},
+                       {"hourglass", e.hourglass}, {"contact", e.contact},
+                       {"eroded", e.eroded},       {"external_work", e.external_work},
+                       {"total", e.total()},       {"balance_error", sim.balance_error(e)}};
   summary["momentum_drift"] = sim.momentum_drift();
   for (const auto& b : sim.bodies())
     summary["bodies"][b.name] = {
         {"mass", b.mass},
         {"com_velocity", {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()}},
-        {"killed_particles", 0},
-        {"eroded_elements", 0}};
+        {"killed_particles", b.killed_particles},
+        {"eroded_elements", b.eroded_elements}};
   for (const auto& p : probes)
     summary["probes"][p.name] = {{p.on_particle ? "particle" : "node", p.node},
                                  {"position", {p.position.x(), p.position.y(), p.position.z()}}};

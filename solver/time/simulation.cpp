@@ -31,7 +31,7 @@ Simulation::Simulation(const Case& c, const Model& model)
   std::vector<int> body_material;
   for (const auto& body : c.bodies) {
     body_material.push_back(static_cast<int>(materials_.size()));
-    materials_.push_back(ElasticConstants::from(c.material(body.material)));
+    materials_.push_back(Material::from(c.material(body.material)));
   }
 
   const Index n = model.node_count();
@@ -61,6 +61,8 @@ Simulation::Simulation(const Case& c, const Model& model)
   e.de_int_e.assign(ne, 0.0);
   e.e_hg_e.assign(ne, 0.0);
   e.f_e.resize(ne);
+  e.point_e.resize(ne);
+  e.eroded_e.assign(ne, 0);
   e.hg_e.assign(ne, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   e.hg_mode_e.assign(ne, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   for (Index k = 0; k < ne; ++k) {
@@ -71,7 +73,10 @@ Simulation::Simulation(const Case& c, const Model& model)
     SPHFEM_CHECK(V > 0, "model.h5: element ", k, " has non-positive volume");
     e.material_e[k] = body_material[model.body_e[k]];
     e.V0_e[k] = e.V_e[k] = V;
-    e.mass_e[k] = materials_[e.material_e[k]].density * V;
+    const Material& material = materials_[e.material_e[k]];
+    e.mass_e[k] = material.elastic.density * V;
+    e.point_e[k] = MaterialPoint::initial(material);
+    e.inelastic = e.inelastic || material.inelastic();
     for (Index node : model.hex_e[k])
       nodes_.m_n[node] += e.mass_e[k] / 8.0;
   }
@@ -180,14 +185,17 @@ Energies Simulation::energies() const {
   // Kinetic energy is that of v^{n+½}; the internal energy is taken at the same half step,
   // half-way through the last stress update (else a vibrating body shows an energy
   // oscillation of relative size ω Δt / 2).
+  // An eroded element's energy moves from internal and hourglass to eroded.
   const auto& e = elements_;
+  const auto internal = [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; };
   out.internal =
-      deterministic_sum(e.size(), 0.0,
-                        [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; }) +
+      deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : internal(k); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; }) +
       particles_.background_energy();
   out.hourglass =
-      deterministic_sum(elements_.size(), 0.0, [&](Index k) { return elements_.e_hg_e[k]; });
+      deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : e.e_hg_e[k]; });
+  out.eroded = deterministic_sum(
+      e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? internal(k) + e.e_hg_e[k] : 0.0; });
   out.contact = particles_.contact_energy();
   out.external_work = external_work_;
   return out;
@@ -239,8 +247,13 @@ std::vector<BodyTotals> Simulation::bodies() const {
     });
     const Vec3 contact =
         particles_.contact().empty() ? Vec3(Vec3::Zero()) : particles_.contact().force_on(part, b);
-    out.push_back(
-        {body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero()), contact});
+    BodyTotals totals{body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero()),
+                      contact};
+    for (Index i = 0; i < part.size(); ++i)
+      totals.killed_particles += part.body_p[i] == b && part.kill_p[i] != Kill::None;
+    for (Index k = 0; k < elements_.size(); ++k)
+      totals.eroded_elements += elements_.body_e[k] == b && elements_.eroded_e[k];
+    out.push_back(totals);
   }
   return out;
 }

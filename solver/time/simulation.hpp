@@ -10,7 +10,7 @@
 #include "solver/coupling/interface_ties.hpp"
 #include "solver/fem/node_gather.hpp"
 #include "solver/io/case.hpp"
-#include "solver/material/elastic.hpp"
+#include "solver/material/material.hpp"
 #include "solver/sph/particle_system.hpp"
 #include "solver/state/hex_elements.hpp"
 #include "solver/state/model.hpp"
@@ -31,7 +31,8 @@ struct Energies {
   double hourglass = 0;     // J
   double contact = 0;       // J
   double external_work = 0; // J, loads and reactions
-  double total() const { return kinetic + internal + hourglass + contact; }
+  double eroded = 0;        // J, internal and hourglass energy of eroded elements
+  double total() const { return kinetic + internal + hourglass + contact + eroded; }
 };
 
 struct BodyTotals {
@@ -39,6 +40,8 @@ struct BodyTotals {
   double mass = 0;                   // kg
   Vec3 com_velocity = Vec3::Zero();  // m/s
   Vec3 contact_force = Vec3::Zero(); // from its contact partners (METHOD.md §4.3), N
+  Index killed_particles = 0;        // failed particles (METHOD.md §6)
+  Index eroded_elements = 0;
 };
 
 class Simulation {
@@ -60,7 +63,7 @@ public:
   const std::vector<std::string>& body_names() const { return body_names_; }
 
   Energies energies() const;
-  // |E_kin + E_int + E_hg + E_contact − W_ext − E_0| / max(E_kin + E_int, |W_ext|, E_0).
+  // |E_kin + E_int + E_hg + E_contact + E_eroded − W_ext − E_0| / max(E_kin + E_int, |W_ext|, E_0).
   double balance_error(const Energies& e) const;
   // |Σ m v − P_0 − ∫F_ext dt| / max(|P_0|, Σ m |v_0|, Σ_steps |F_ext Δt|, tiny): the impulse
   // term gives a meaningful scale to bodies set in motion by loads alone.
@@ -71,7 +74,7 @@ public:
 private:
   double cfl_;
   FemSpec fem_;
-  std::vector<ElasticConstants> materials_;
+  std::vector<Material> materials_;
   std::vector<std::string> body_names_;
   Nodes nodes_;
   HexElements elements_;

@@ -80,6 +80,8 @@ HexElements make_elements(const std::vector<Hex>& hexes, double mass) {
   e.de_int_e.assign(n, 0.0);
   e.e_hg_e.assign(n, 0.0);
   e.f_e.resize(n);
+  e.point_e.resize(n);
+  e.eroded_e.assign(n, 0);
   e.hg_e.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   e.hg_mode_e.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   return e;
@@ -197,7 +199,7 @@ TEST(Hex8, PatchTestOnDistortedMesh) {
   HexElements e = make_elements(b.hexes, 7830.0);
   const FemSpec fem; // viscous hourglass 0.1, bulk viscosity on
   const ElasticConstants mat = steel();
-  update_hex_elements({x_new, v, dt}, {mat}, fem, e);
+  update_hex_elements({x_new, v, dt}, {Material{.elastic = mat}}, fem, e);
 
   // Independent expectation: the mid-step gradient of v = A x on x_mid = (I + ½ dt A) x is
   // A (I + ½ dt A)⁻¹; Hooke on its symmetric part over dt (rotation of zero stress is zero).
@@ -245,7 +247,7 @@ TEST(Hex8, RigidRotationRotatesStressExactly) {
       x_new[I] = step_rotation * x[I];
       v[I] = (x_new[I] - x[I]) / dt;
     }
-    update_hex_elements({x_new, v, dt}, {steel()}, fem, e);
+    update_hex_elements({x_new, v, dt}, {Material{.elastic = steel()}}, fem, e);
     x = x_new;
   }
   const Mat3 R = Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix();
@@ -269,7 +271,7 @@ TEST(Hex8, RigidTranslationLeavesStressAlone) {
   for (int s = 0; s < 100; ++s) {
     for (auto& xi : x)
       xi += dt * v[0];
-    update_hex_elements({x, v, dt}, {steel()}, FemSpec{}, e);
+    update_hex_elements({x, v, dt}, {Material{.elastic = steel()}}, FemSpec{}, e);
   }
   EXPECT_LT((e.S_e[0] - S0).norm(), 1e-12 * S0.norm());
   EXPECT_NEAR(e.p_e[0], 50e6, 1e-12 * 50e6);
@@ -307,7 +309,7 @@ HourglassRun run_hourglass_mode(HourglassForm form, double coefficient, int step
   FemSpec fem;
   fem.hourglass_form = form;
   fem.hourglass_coefficient = coefficient;
-  double dt = 0.3 * update_hex_elements({x, v, 0.0}, {mat}, fem, e);
+  double dt = 0.3 * update_hex_elements({x, v, 0.0}, {Material{.elastic = mat}}, fem, e);
   HourglassRun out{};
   for (const auto& vi : v)
     out.kinetic0 += 0.5 * m * vi.squaredNorm();
@@ -316,7 +318,7 @@ HourglassRun run_hourglass_mode(HourglassForm form, double coefficient, int step
       v[I] += dt / m * e.f_e[0][I];
       x[I] += dt * v[I];
     }
-    update_hex_elements({x, v, dt}, {mat}, fem, e);
+    update_hex_elements({x, v, dt}, {Material{.elastic = mat}}, fem, e);
     for (int I = 0; I < 8; ++I)
       out.max_amplitude = std::max(out.max_amplitude, (x[I] - x0[I]).norm());
   }

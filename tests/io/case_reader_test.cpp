@@ -256,7 +256,7 @@ TEST(CaseReader, RejectsPoissonRatioOutOfRange) {
 TEST(CaseReader, RejectsUnknownMaterialModel) {
   EXPECT_TRUE(reports(error_of(edited(kMinimal, "model: elastic", "model: plastic")),
                       "case.yaml:4: materials.steel.model: ",
-                      "unknown model 'plastic' (expected one of: elastic)"));
+                      "unknown model 'plastic' (expected one of: elastic, johnson_cook)"));
 }
 
 TEST(CaseReader, RejectsNegativeEndTime) {

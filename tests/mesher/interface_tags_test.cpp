@@ -40,7 +40,11 @@ BodySpec sph_box(const std::string& name, const Vec3& min, const Vec3& max, doub
 Case case_of(std::vector<BodySpec> bodies) {
   Case c;
   c.name = "interface_tags_test";
-  c.materials.push_back({"steel", "elastic", 7830, 207e9, 0.3});
+  c.materials.push_back({.name = "steel",
+                         .model = "elastic",
+                         .density = 7830,
+                         .youngs_modulus = 207e9,
+                         .poisson_ratio = 0.3});
   c.bodies = std::move(bodies);
   return c;
 }

@@ -63,7 +63,11 @@ BodySpec sph_file(const std::string& name, const fs::path& file, double spacing)
 Case case_of(std::vector<BodySpec> bodies) {
   Case c;
   c.name = "lattice_test";
-  c.materials.push_back({"steel", "elastic", rho0, 207e9, 0.3});
+  c.materials.push_back({.name = "steel",
+                         .model = "elastic",
+                         .density = rho0,
+                         .youngs_modulus = 207e9,
+                         .poisson_ratio = 0.3});
   c.bodies = std::move(bodies);
   return c;
 }

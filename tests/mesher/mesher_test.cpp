@@ -55,8 +55,16 @@ BodySpec sph_box_body(const std::string& name, const Vec3& min, const Vec3& max,
 Case case_of(std::vector<BodySpec> bodies) {
   sphfem::Case c;
   c.name = "mesher_test";
-  c.materials.push_back({"steel", "elastic", 7830, 207e9, 0.3});
-  c.materials.push_back({"aluminium", "elastic", 2700, 70e9, 0.33});
+  c.materials.push_back({.name = "steel",
+                         .model = "elastic",
+                         .density = 7830,
+                         .youngs_modulus = 207e9,
+                         .poisson_ratio = 0.3});
+  c.materials.push_back({.name = "aluminium",
+                         .model = "elastic",
+                         .density = 2700,
+                         .youngs_modulus = 70e9,
+                         .poisson_ratio = 0.33});
   c.bodies = std::move(bodies);
   return c;
 }

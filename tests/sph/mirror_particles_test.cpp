@@ -26,8 +26,7 @@ struct Block {
 
   Block(const Vec3& size, const std::vector<std::string>& symmetric, double alpha = 1.0)
       : spec(make_case(size, symmetric, alpha)),
-        system(spec, test::lattice_block(size, dp, 1.2),
-               {ElasticConstants::from(spec.materials[0])}) {}
+        system(spec, test::lattice_block(size, dp, 1.2), {Material::from(spec.materials[0])}) {}
 
   static Case make_case(const Vec3& size, const std::vector<std::string>& symmetric, double alpha) {
     Case c = test::block_case(dp, 1.2);

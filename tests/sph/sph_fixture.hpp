@@ -10,7 +10,11 @@
 namespace sphfem::test {
 
 inline MaterialSpec steel() {
-  return {"steel", "elastic", 7830.0, 207e9, 0.3};
+  return {.name = "steel",
+          .model = "elastic",
+          .density = 7830.0,
+          .youngs_modulus = 207e9,
+          .poisson_ratio = 0.3};
 }
 
 inline Model lattice_block(const Vec3& size, double dp, double h_factor) {

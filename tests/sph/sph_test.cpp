@@ -24,8 +24,7 @@ struct Block {
   double time = 0;
   long long steps = 0;
 
-  Block(const Case& c, const Model& m)
-      : spec(c), system(c, m, {ElasticConstants::from(c.materials[0])}) {}
+  Block(const Case& c, const Model& m) : spec(c), system(c, m, {Material::from(c.materials[0])}) {}
   Particles& p() { return system.particles(); }
 
   void set_velocity(const std::function<Vec3(const Vec3&)>& v) {

@@ -67,7 +67,7 @@ Equilibrium check(bool nodes, bool correction) {
   Case c = test::block_case(dp, 1.2);
   c.sph.gradient_correction = correction;
   c.sph.artificial_stress = false;
-  ParticleSystem system(c, m, {ElasticConstants::from(c.materials[0])});
+  ParticleSystem system(c, m, {Material::from(c.materials[0])});
   Particles& p = system.particles();
   // σ = −p e_z ⊗ e_z: pressure p/3 and deviator −p (e_z e_zᵀ − I/3).
   const Mat3 ezz = Vec3::UnitZ() * Vec3::UnitZ().transpose();
@@ -78,7 +78,7 @@ Equilibrium check(bool nodes, bool correction) {
   NeighbourSearch search;
   search.build(p.x_p, p.h_p, 0.0);
   sph_kinematics(p, search.list(), c.sph, 0.0);
-  sph_forces(p, search.list(), {ElasticConstants::from(c.materials[0])}, c.sph, 0.0);
+  sph_forces(p, search.list(), {Material::from(c.materials[0])}, c.sph, 0.0);
 
   // The loads of both end faces, per particle (model order), divided by their scale.
   std::map<Index, Vec3> load;
