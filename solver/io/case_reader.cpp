@@ -3,6 +3,7 @@
 #include "solver/io/case_reader.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/io/material_library.hpp"
 #include "solver/material/material.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -517,8 +518,11 @@ JohnsonCook Reader::johnson_cook(const Located& at) const {
   jc.reference_temperature =
       number_or(at, "reference_temperature", jc.reference_temperature, "> 0 K", positive);
   jc.melting_temperature =
-      number_or(at, "melting_temperature", jc.melting_temperature, "> reference_temperature, K",
-                [&jc](double v) { return v > jc.reference_temperature; });
+      number_or(at, "melting_temperature", jc.melting_temperature, "> 0 K", positive);
+  if (jc.melting_temperature <= jc.reference_temperature)
+    fail(at, "melting_temperature (" + std::to_string(jc.melting_temperature) +
+                 " K) must exceed reference_temperature (" +
+                 std::to_string(jc.reference_temperature) + " K)");
   return jc;
 }
 
@@ -950,6 +954,7 @@ auto parse(const std::string& yaml_text, const std::filesystem::path& file,
       override_paths.push_back(apply_override(root, text));
     std::error_code no_folder;
     const std::filesystem::path folder = std::filesystem::absolute(file, no_folder).parent_path();
+    resolve_material_libraries(root, folder, name);
     return read(Reader(name, folder, std::move(override_paths)), root);
   } catch (const Error&) {
     throw;

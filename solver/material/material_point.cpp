@@ -89,7 +89,8 @@ double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, 
     const DuctileDamage& d = *m.damage;
     const double active = point.plastic_strain - std::max(p_old, d.threshold_strain);
     if (active > 0) {
-      const double triaxiality = -pressure / flow;
+      // A melted point (T* = 1) has no flow stress left: count it as at zero triaxiality.
+      const double triaxiality = flow > 0 ? -pressure / flow : 0.0;
       const double p_f = d.fracture_strain(triaxiality, dp / (dt * jc.reference_strain_rate),
                                            jc.homologous_temperature(T_start));
       const double span = p_f - d.threshold_strain;

@@ -1004,5 +1004,47 @@ TEST(CaseReaderOverrides, RejectsOverrideOfValueSharedByAlias) {
                       "--set bodies.bar.velocity.2=2: ", "bodies.bar.velocity is shared"));
 }
 
+// ---- Material libraries (cases/materials) -------------------------------------------------
+
+const std::string kLibraries = std::string(SPHFEM_SOURCE_DIR) + "/cases/materials/";
+
+TEST(CaseReader, MaterialFromLibraryWithChanges) {
+  const Case c = read_case_text(
+      edited(kMinimal,
+             "steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}",
+             "steel: {library: " + kLibraries + "weldox460e.yaml, entry: weldox460e_paper,\n" +
+                 "          johnson_cook: {C: 0.02}, erosion: true}"),
+      "case.yaml");
+  const MaterialSpec& m = c.material("steel");
+  EXPECT_EQ(m.model, "johnson_cook");
+  EXPECT_EQ(m.density, 7850);
+  ASSERT_TRUE(m.johnson_cook && m.damage && m.heating && m.eos);
+  EXPECT_EQ(m.johnson_cook->C, 0.02);  // changed
+  EXPECT_EQ(m.johnson_cook->A, 490e6); // kept
+  EXPECT_EQ(m.johnson_cook->rate_form, RateForm::Log);
+  EXPECT_EQ(m.damage->D4, -0.0123);
+  EXPECT_TRUE(m.erosion);
+  // The entry defaults to the case's own name for the material; --set reaches library keys.
+  const Case d = read_case_text(
+      edited(kMinimal,
+             "steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}",
+             "arne: {library: " + kLibraries + "arne.yaml}"),
+      "case.yaml", {"bodies.bar.material=arne", "materials.arne.density=7800"});
+  EXPECT_EQ(d.material("arne").density, 7800);
+  EXPECT_EQ(d.material("arne").youngs_modulus, 200e9);
+}
+
+TEST(CaseReader, MaterialLibraryErrorsNameTheFileAndEntry) {
+  const std::string line =
+      "steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}";
+  EXPECT_TRUE(reports(
+      error_of(edited(kMinimal, line, "steel: {library: " + kLibraries + "weldox460e.yaml}")),
+      "case.yaml:4: materials.steel.library: ",
+      "has no material 'steel' (it has: weldox460e, weldox460e_paper)"));
+  EXPECT_TRUE(
+      reports(error_of(edited(kMinimal, line, "steel: {library: no_such_library.yaml}")),
+              "case.yaml:4: materials.steel.library: ", "no_such_library.yaml: no such file"));
+}
+
 } // namespace
 } // namespace sphfem
