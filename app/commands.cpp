@@ -1,5 +1,6 @@
 #include "app/commands.hpp"
 
+#include "app/material_command.hpp"
 #include "mesher/mesher.hpp"
 #include "post/history_plot.hpp"
 #include "solver/core/error.hpp"
@@ -141,6 +142,9 @@ int run_command_line(int argc, char** argv) {
   std::string history_size = "900x560";
   add_post_history(*post_cmd, history_o, history_size);
 
+  MaterialCommandOptions material_o;
+  auto* material_cmd = add_material_command(app, material_o);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -151,6 +155,10 @@ int run_command_line(int argc, char** argv) {
     if (mesh->parsed()) {
       const Case c = read_case(mesh_o.case_file, mesh_o.overrides);
       mesh_and_write(c, mesh_o.out_dir, mesh_o.quiet);
+      return 0;
+    }
+    if (material_cmd->parsed()) {
+      run_material_command(material_o);
       return 0;
     }
     if (post_cmd->parsed()) {

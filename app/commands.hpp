@@ -1,6 +1,6 @@
-// The `sphfem` command line: git-style subcommands (mesh, solve, run, post history), each with
-// --help. Parses arguments, reads and validates the case before anything is written, and turns any
-// sphfem::Error into one line on stderr and a non-zero exit code.
+// The `sphfem` command line: git-style subcommands (mesh, solve, run, post history, material),
+// each with --help. Parses arguments, reads and validates the case before anything is written,
+// and turns any sphfem::Error into one line on stderr and a non-zero exit code.
 #pragma once
 
 namespace sphfem {

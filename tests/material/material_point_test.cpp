@@ -1,0 +1,223 @@
+// Unit tests of one material-point update (solver/material/material_point.hpp) and of the
+// Mie–Grüneisen EOS (METHOD.md §5): the radial return lands on the damaged, rate- and
+// temperature-dependent yield surface; heating and damage grow as their laws say; an elastic
+// step stays elastic; the EOS matches its formula, its slope and its isentropic sound speed.
+#include "reference.hpp"
+#include "solver/material/material.hpp"
+#include "solver/material/material_point.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace sphfem {
+namespace {
+
+using sphfem_test::entry;
+using sphfem_test::weldox_specs;
+
+double equivalent(const Mat3& S) {
+  return std::sqrt(1.5 * (S.array() * S.array()).sum());
+}
+
+// A point part-way along its life: some plastic strain, damage and heat.
+MaterialPoint worn_point() {
+  MaterialPoint point;
+  point.plastic_strain = 0.3;
+  point.damaged_strain = 0.27;
+  point.damage = 0.1;
+  point.temperature = 500.0;
+  return point;
+}
+
+class ReturnMapping : public testing::TestWithParam<std::string> {};
+
+// A deviatoric stretch far past yield (W = 0, so the trial deviator is S0 + 2G D′ Δt): the
+// returned deviator is the trial scaled radially, and its equivalent stress is the flow stress
+// (1 − D) σ_Y(r + (1 − D)Δp, (1 − D)Δp/Δt, T) at the start-of-step D and T, to the return's
+// tolerance (|g| ≤ 1e-10 σ_trial, so 1e-8 relative is ample).
+TEST_P(ReturnMapping, LandsOnTheYieldSurface) {
+  const auto specs = weldox_specs();
+  const MaterialSpec& spec = entry(specs, GetParam());
+  const Material m = Material::from(spec);
+  const double G = sphfem_test::shear_modulus(spec);
+  const double dt = 1e-4;
+  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal(); // 1% axial strain in the step
+  Mat3 S0 = Mat3::Zero();
+  S0(0, 1) = S0(1, 0) = 200e6;
+  const Mat3 trial = S0 + 2.0 * G * dt * D; // D is deviatoric already
+
+  for (const double rate_scale : {1e-6, 1.0, 1e3}) { // ṗ* ≈ 0.15 (log clamp), 2e3, 2e6
+    MaterialPoint point = worn_point();
+    Mat3 S = S0;
+    double pressure = -300e6;
+    const Mat3 Ds = D * rate_scale;
+    const double dts = dt / rate_scale;
+    const double dp = update_point(m, Ds, Mat3::Zero(), dts, 7850.0, pressure, S, point);
+    ASSERT_GT(dp, 0.0);
+    const double intact = 1.0 - 0.1;
+    const double expected =
+        intact * sphfem_test::jc_flow(spec, 0.27 + intact * dp, intact * dp / dts, 500.0);
+    EXPECT_NEAR(equivalent(S), expected, 1e-8 * expected) << "rate scale " << rate_scale;
+    // Radial: S = (1 − 3GΔp/σ_trial) S_trial.
+    const double sigma_trial = equivalent(trial);
+    EXPECT_NEAR((S - (1.0 - 3.0 * G * dp / sigma_trial) * trial).norm(), 0.0, 1e-9 * sigma_trial);
+    EXPECT_NEAR(point.plastic_strain, 0.3 + dp, 1e-14);
+    EXPECT_NEAR(point.damaged_strain, 0.27 + intact * dp, 1e-14);
+  }
+}
+
+// Heating ΔT = χ σ_eq Δp/(ρ C_p) and damage ΔD = D_C Δp/(p_f − p_d), with σ* = −p/σ_eq,
+// ṗ* = Δp/(Δt ṗ0) and T* of the step start.
+TEST_P(ReturnMapping, HeatsAndDamagesAsTheLawsSay) {
+  const auto specs = weldox_specs();
+  const MaterialSpec& spec = entry(specs, GetParam());
+  const Material m = Material::from(spec);
+  MaterialPoint point = worn_point();
+  Mat3 S = Mat3::Zero();
+  double pressure = -300e6;
+  const double dt = 1e-4, rho = 7800.0;
+  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
+  const double dp = update_point(m, D, Mat3::Zero(), dt, rho, pressure, S, point);
+  const double sigma = equivalent(S);
+  const double rise =
+      spec.heating->taylor_quinney * sigma * dp / (rho * spec.heating->specific_heat);
+  EXPECT_NEAR(point.temperature, 500.0 + rise, 1e-9 * rise);
+
+  // D5 = 0, so the temperature does not enter p_f.
+  const double p_f = sphfem_test::fracture_strain(spec, 300e6 / sigma, dp / dt);
+  const double increment =
+      spec.damage->critical_damage * dp / (p_f - spec.damage->threshold_strain);
+  EXPECT_NEAR(point.damage, 0.1 + increment, 1e-9 * increment);
+  EXPECT_FALSE(point.failed);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothRateForms, ReturnMapping,
+                         testing::Values("weldox460e", "weldox460e_paper"),
+                         [](const auto& info) { return info.param; });
+
+// Below yield the step is elastic: Δp = 0 and S = S0 + 2G D′ Δt exactly.
+TEST(MaterialPoint, ElasticStepBelowYield) {
+  const auto specs = weldox_specs();
+  const MaterialSpec& spec = entry(specs, "weldox460e");
+  const Material m = Material::from(spec);
+  MaterialPoint point = worn_point();
+  Mat3 S = Mat3::Zero();
+  S(0, 0) = 100e6;
+  S(1, 1) = S(2, 2) = -50e6;
+  const Mat3 S0 = S;
+  Mat3 D = Mat3::Zero();
+  D(0, 1) = D(1, 0) = 1.0;
+  D(2, 2) = 0.3; // a volumetric part too: only its deviator acts on S
+  const double dt = 1e-5, G = sphfem_test::shear_modulus(spec);
+  double pressure = 0;
+  const double dp = update_point(m, D, Mat3::Zero(), dt, 7850.0, pressure, S, point);
+  EXPECT_NEAR(dp, 0.0, 0.0); // exactly: the return is not entered
+  const Mat3 deviator = D - (0.3 / 3.0) * Mat3::Identity();
+  EXPECT_NEAR((S - (S0 + 2.0 * G * dt * deviator)).norm(), 0.0, 1e-6); // Pa
+  EXPECT_NEAR(point.plastic_strain, 0.3, 0.0);
+  EXPECT_NEAR(point.damage, 0.1, 0.0);
+  EXPECT_NEAR(point.temperature, 500.0, 0.0);
+}
+
+// A failed point carries no deviator and no tension, whatever it is given.
+TEST(MaterialPoint, FailedPointIsStressFreeInTension) {
+  const auto specs = weldox_specs();
+  const Material m = Material::from(entry(specs, "weldox460e"));
+  MaterialPoint point = worn_point();
+  point.failed = true;
+  Mat3 S = Mat3::Constant(1e8);
+  double tension = -1e8, compression = 2e8;
+  // Exact zeros: the failed branch sets them.
+  EXPECT_NEAR(update_point(m, Mat3::Identity(), Mat3::Zero(), 1e-6, 7850, tension, S, point), 0.0,
+              0.0);
+  EXPECT_NEAR(S.norm(), 0.0, 0.0);
+  EXPECT_NEAR(tension, 0.0, 0.0);
+  update_point(m, Mat3::Identity(), Mat3::Zero(), 1e-6, 7850, compression, S, point);
+  EXPECT_NEAR(compression, 2e8, 0.0); // crushed material still carries pressure
+}
+
+// ---- Mie–Grüneisen --------------------------------------------------------------------
+
+// The EOS of the weldox entry, with its constants: ρ0 = 7850, c0 = 4569, s = 1.49,
+// γ0 = 2.17, a = 0.46 (cases/materials/weldox460e.yaml).
+struct Eos {
+  double rho0 = 7850, c0 = 4569, s = 1.49, gamma0 = 2.17, a = 0.46;
+
+  double pressure(double mu, double E) const {
+    const double k = rho0 * c0 * c0;
+    if (mu > 0)
+      return k * mu * (1 + (1 - gamma0 / 2) * mu - (a / 2) * mu * mu) /
+                 std::pow(1 - (s - 1) * mu, 2) +
+             (gamma0 + a * mu) * E;
+    return k * mu + (gamma0 + a * mu) * E;
+  }
+};
+
+TEST(MieGruneisen, PressureMatchesTheFormula) {
+  const auto specs = weldox_specs();
+  const MaterialSpec& spec = entry(specs, "weldox460e");
+  ASSERT_TRUE(spec.eos);
+  const Eos eos;
+  EXPECT_NEAR(spec.density, eos.rho0, 0.0);
+  for (const double mu : {0.1, 0.3, -0.05})
+    for (const double E : {0.0, 2e8, -1e8}) {
+      const double expected = eos.pressure(mu, E);
+      EXPECT_NEAR(spec.eos->pressure(spec.density, mu, E), expected, 1e-12 * std::abs(expected))
+          << "mu " << mu << ", E " << E;
+      // Material::pressure takes the density.
+      const Material m = Material::from(spec);
+      EXPECT_NEAR(m.pressure(eos.rho0 * (1 + mu), E), expected, 1e-9 * std::abs(expected));
+    }
+}
+
+// ∂p/∂μ at constant E against a central difference (step 1e-6: truncation ~1e-12, round-off
+// ~1e-10 relative).
+TEST(MieGruneisen, SlopeMatchesCentralDifference) {
+  const auto specs = weldox_specs();
+  const MieGruneisen& eos = *entry(specs, "weldox460e").eos;
+  const Eos reference;
+  const double h = 1e-6;
+  for (const double mu : {0.1, 0.3, -0.05})
+    for (const double E : {0.0, 2e8}) {
+      const double fd = (reference.pressure(mu + h, E) - reference.pressure(mu - h, E)) / (2 * h);
+      EXPECT_NEAR(eos.pressure_slope(7850, mu, E), fd, 1e-7 * fd) << "mu " << mu << ", E " << E;
+    }
+}
+
+// Bulk sound speed² = dp/dρ along an isentrope, de = (p/ρ²) dρ with e = E/ρ0: a central
+// difference along it (relative step 1e-6).
+TEST(MieGruneisen, BulkSoundSpeedIsTheIsentropicSlope) {
+  const auto specs = weldox_specs();
+  const MieGruneisen& eos = *entry(specs, "weldox460e").eos;
+  const Eos r;
+  for (const double mu : {0.1, 0.3, -0.05})
+    for (const double E : {0.0, 2e8}) {
+      const double rho = r.rho0 * (1 + mu), p = r.pressure(mu, E);
+      const double h = 1e-6 * rho, dE = r.rho0 * p / (rho * rho) * h;
+      const double fd = (r.pressure((rho + h) / r.rho0 - 1, E + dE) -
+                         r.pressure((rho - h) / r.rho0 - 1, E - dE)) /
+                        (2 * h);
+      EXPECT_NEAR(eos.bulk_sound_speed_squared(r.rho0, mu, E), fd, 1e-6 * fd)
+          << "mu " << mu << ", E " << E;
+    }
+}
+
+// The wave speed stays real over the range impacts reach, and at the reference state it is
+// √(c0² + 4G/3ρ0).
+TEST(MieGruneisen, SoundSpeedIsPositiveAndRightAtRest) {
+  const auto specs = weldox_specs();
+  const MaterialSpec& spec = entry(specs, "weldox460e");
+  const Material m = Material::from(spec);
+  for (int i = -10; i <= 30; ++i)
+    for (const double E : {0.0, 5e8}) {
+      const double c = m.sound_speed(spec.density * (1 + 0.01 * i), E);
+      EXPECT_TRUE(std::isfinite(c) && c > 0) << "mu " << 0.01 * i << ", E " << E;
+    }
+  const double G = sphfem_test::shear_modulus(spec);
+  const double expected = std::sqrt(4569.0 * 4569.0 + 4 * G / (3 * 7850.0));
+  EXPECT_NEAR(m.sound_speed(7850.0, 0.0), expected, 1e-12 * expected);
+}
+
+} // namespace
+} // namespace sphfem
