@@ -5,6 +5,7 @@
 #include "solver/fem/hex8.hpp"
 #include "solver/material/material_point.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -37,10 +38,11 @@ void erode(HexElements& e, Index k) {
   e.hg_e[k].fill(Vec3::Zero());
 }
 
-} // namespace
-
-double update_hex_elements(const HexStepInput& in, const std::vector<Material>& materials,
-                           const FemSpec& fem, HexElements& e) {
+// The element loop. `General`: some material has an EOS, a strength or erosion; without, the
+// loop is the linear elastic one and pays for none of them.
+template <bool General>
+double update_elements(const HexStepInput& in, const std::vector<Material>& materials,
+                       const FemSpec& fem, HexElements& e) {
   const Index n = e.size();
   const bool stiffness = fem.hourglass_form == HourglassForm::Stiffness;
   const double dt = in.dt;
@@ -51,7 +53,7 @@ double update_hex_elements(const HexStepInput& in, const std::vector<Material>& 
     reduction(min                                                                                  \
               : dt_min, first_inverted) if (n > parallel_min_items / 16)
   for (Index k = 0; k < n; ++k) {
-    if (e.eroded_e[k])
+    if (General && e.eroded_e[k])
       continue;
     const Hex& nodes = e.nodes_e[k];
     const Material& mat = materials[e.material_e[k]];
@@ -63,7 +65,9 @@ double update_hex_elements(const HexStepInput& in, const std::vector<Material>& 
       continue;
     }
     const double rho = e.mass_e[k] / g.volume;
-    const double c = mat.sound_speed(rho, e.e_int_e[k] / e.V0_e[k]);
+    const double energy = General && mat.eos ? e.e_int_e[k] / e.V0_e[k] : 0.0; // E, J/m³
+    const double c =
+        General ? mat.sound_speed(rho, energy) : std::sqrt(mat.elastic.p_wave_modulus() / rho);
     const double length = hex8_characteristic_length(x1, g.volume);
     double trace_D = 0;
 
@@ -77,14 +81,18 @@ double update_hex_elements(const HexStepInput& in, const std::vector<Material>& 
       const Mat3 W = 0.5 * (L - L.transpose());
       trace_D = D.trace();
       const Mat3 sigma_old = e.sigma(k);
-      // Pressure: the EOS at the new density, else the elastic rate form −K tr D.
-      double pressure = mat.eos ? mat.pressure(rho, e.e_int_e[k] / e.V0_e[k])
-                                : e.p_e[k] - mat.elastic.bulk * trace_D * dt;
-      if (mat.inelastic())
-        update_point(mat, D, W, dt, rho, pressure, e.S_e[k], e.point_e[k]);
-      else
-        elastic_deviator_update(mat.elastic, D, W, dt, e.S_e[k]);
-      e.p_e[k] = pressure;
+      if constexpr (General) {
+        // Pressure: the EOS at the new density, else the elastic rate form −K tr D.
+        double pressure =
+            mat.eos ? mat.pressure(rho, energy) : e.p_e[k] - mat.elastic.bulk * trace_D * dt;
+        if (mat.inelastic())
+          update_point(mat, D, W, dt, rho, pressure, e.S_e[k], e.point_e[k]);
+        else
+          elastic_deviator_update(mat.elastic, D, W, dt, e.S_e[k]);
+        e.p_e[k] = pressure;
+      } else {
+        elastic_update(mat.elastic, D, W, dt, e.S_e[k], e.p_e[k]);
+      }
       e.q_e[k] = bulk_viscosity(rho, length, c, trace_D, fem);
       const Mat3 sigma_mid = 0.5 * (sigma_old + e.sigma(k));
       e.de_int_e[k] = dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
@@ -108,7 +116,7 @@ double update_hex_elements(const HexStepInput& in, const std::vector<Material>& 
     for (int a = 0; a < 4; ++a)
       hourglass_work += resist[a].dot(0.5 * (e.hg_mode_e[k][a] + mode[a]));
     e.e_hg_e[k] += dt * hourglass_work;
-    if (mat.erosion && e.point_e[k].failed) {
+    if (General && mat.erosion && e.point_e[k].failed) {
       erode(e, k);
       continue;
     }
@@ -138,6 +146,16 @@ double update_hex_elements(const HexStepInput& in, const std::vector<Material>& 
   SPHFEM_CHECK(first_inverted == n, "element ", first_inverted,
                " inverted (non-positive volume): the mesh tangled; reduce time.cfl or refine");
   return dt_min;
+}
+
+} // namespace
+
+double update_hex_elements(const HexStepInput& in, const std::vector<Material>& materials,
+                           const FemSpec& fem, HexElements& e) {
+  const bool general = std::ranges::any_of(
+      materials, [](const Material& m) { return m.eos || m.inelastic() || m.erosion; });
+  return general ? update_elements<true>(in, materials, fem, e)
+                 : update_elements<false>(in, materials, fem, e);
 }
 
 } // namespace sphfem

@@ -43,10 +43,10 @@ double power(double x, int n) {
   return result;
 }
 
-// Internal energy per initial volume (J/m³), the EOS's E: e V0⁻¹ with V0 = m/ρ0. Background
-// and mirror rows carry no energy of their own.
-double energy_density(const Particles& p, Index i) {
-  return i < p.size() ? p.e_p[i] * p.rho0_p[i] / p.m_p[i] : 0.0;
+// Internal energy per initial volume (J/m³), the EOS's E: e V0⁻¹ with V0 = m/ρ0, where the
+// material has an EOS. Background and mirror rows carry no energy of their own.
+double energy_density(const Particles& p, const Material& m, Index i) {
+  return m.eos && i < p.size() ? p.e_p[i] * p.rho0_p[i] / p.m_p[i] : 0.0;
 }
 
 } // namespace
@@ -94,55 +94,71 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
 
 } // namespace
 
-void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
-  const Index n = p.size();
-  const bool excluded = p.excluded > 0;
-#pragma omp parallel for schedule(static) if (n > parallel_min_items / 16)
-  for (Index i = 0; i < n; ++i) {
-    // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity): a rigid rotation
-    // then has an exactly skew velocity gradient, as for the hexahedra.
-    const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
-    const int group = p.group_p[i];
-    const bool out = excluded && p.out_of_sums(i);
-    Mat3 M = Mat3::Zero(), G = Mat3::Zero();
-    Vec3 xsph = Vec3::Zero();
-    double drho = 0;
-    int count = 0;
-    for (Index j : list.of(i)) {
-      const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
-      const double r = x_ij.norm();
-      const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-      if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
-        continue;
-      const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
-      const Vec3 v_ji = p.v_p[j] - vi;
-      // A particle killed in tension is out of the others' sums and they of its, but its own
-      // density still follows all its neighbours, so that it sees when it is compressed again.
-      if (out || (excluded && p.out_of_sums(j))) {
+namespace {
+
+// The kinematics of real particle i. With `Kill`, some particles are killed in tension: such a
+// particle is out of the others' sums and they of its, but its own density still follows all
+// its neighbours, so that it sees when it is compressed again. Without, the loop has no test.
+template <bool Kill>
+void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
+                         Index i) {
+  // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity): a rigid rotation
+  // then has an exactly skew velocity gradient, as for the hexahedra.
+  const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
+  const int group = p.group_p[i];
+  [[maybe_unused]] const bool out = Kill && p.out_of_sums(i);
+  Mat3 M = Mat3::Zero(), G = Mat3::Zero();
+  Vec3 xsph = Vec3::Zero();
+  double drho = 0;
+  int count = 0;
+  for (Index j : list.of(i)) {
+    const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
+    const double r = x_ij.norm();
+    const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
+    if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
+      continue;
+    const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
+    const Vec3 v_ji = p.v_p[j] - vi;
+    if constexpr (Kill) {
+      if (out || p.out_of_sums(j)) {
         if (out)
           drho -= p.m_p[j] * v_ji.dot(grad);
         continue;
       }
-      ++count;
-      G += p.m_p[j] * v_ji * grad.transpose();
-      M -= p.m_p[j] * x_ij * grad.transpose();
-      drho -= p.m_p[j] * v_ji.dot(grad);
-      if (spec.xsph)
-        xsph += (2.0 * p.m_p[j] / (p.rho_p[i] + p.rho_p[j]) * kernel_W(r, h_ij)) * v_ji;
     }
-    // Gradient correction (Randles & Libersky; Bonet & Lok 1999): with C = M⁻¹,
-    // M = −(1/ρ_i) Σ_j m_j x_ij ⊗ ∇W, the gradient G C/ρ_i of every linear field is exact, also
-    // at free surfaces where the kernel support is cut. The momentum pair term uses the same C
-    // (A = σ Cᵀ/ρ², the transpose of this gradient), so stress power and force work agree pair
-    // by pair, and a uniform stress loads only the surface.
-    M /= p.rho_p[i];
-    const Mat3 C = gradient_correction(M, spec.gradient_correction);
-    p.C_p[i] = C;
-    p.G_p[i] = G * C;
-    p.L_p[i] = p.G_p[i] / p.rho_p[i];
-    p.drho_p[i] = drho;
-    p.xsph_p[i] = spec.xsph_epsilon * xsph;
-    p.neighbours_p[i] = count;
+    ++count;
+    G += p.m_p[j] * v_ji * grad.transpose();
+    M -= p.m_p[j] * x_ij * grad.transpose();
+    drho -= p.m_p[j] * v_ji.dot(grad);
+    if (spec.xsph)
+      xsph += (2.0 * p.m_p[j] / (p.rho_p[i] + p.rho_p[j]) * kernel_W(r, h_ij)) * v_ji;
+  }
+  // Gradient correction (Randles & Libersky; Bonet & Lok 1999): with C = M⁻¹,
+  // M = −(1/ρ_i) Σ_j m_j x_ij ⊗ ∇W, the gradient G C/ρ_i of every linear field is exact, also
+  // at free surfaces where the kernel support is cut. The momentum pair term uses the same C
+  // (A = σ Cᵀ/ρ², the transpose of this gradient), so stress power and force work agree pair
+  // by pair, and a uniform stress loads only the surface.
+  M /= p.rho_p[i];
+  const Mat3 C = gradient_correction(M, spec.gradient_correction);
+  p.C_p[i] = C;
+  p.G_p[i] = G * C;
+  p.L_p[i] = p.G_p[i] / p.rho_p[i];
+  p.drho_p[i] = drho;
+  p.xsph_p[i] = spec.xsph_epsilon * xsph;
+  p.neighbours_p[i] = count;
+}
+
+} // namespace
+
+void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
+  const Index n = p.size();
+  const bool kill = p.excluded > 0;
+#pragma omp parallel for schedule(static) if (n > parallel_min_items / 16)
+  for (Index i = 0; i < n; ++i) {
+    if (kill)
+      particle_kinematics<true>(p, list, spec, dt, i);
+    else
+      particle_kinematics<false>(p, list, spec, dt, i);
   }
   background_kinematics(p, list, spec, dt);
 }
@@ -166,7 +182,7 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
     const Mat3& L = p.L_p[i];
     const Mat3 D = 0.5 * (L + L.transpose()), W = 0.5 * (L - L.transpose());
     const Mat3 sigma_old = total_stress(p, i);
-    double pressure = mat.pressure(rho, energy_density(p, i));
+    double pressure = mat.pressure(rho, energy_density(p, mat, i));
     if (mat.inelastic()) {
       update_point(mat, D, W, dt, rho, pressure, p.S_p[i], p.point_p[i]);
       if (p.point_p[i].failed) {
@@ -201,7 +217,8 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
 #pragma omp parallel for schedule(static) if (total > parallel_min_items)
   for (Index i = 0; i < total; ++i) {
     p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() / (p.rho_p[i] * p.rho_p[i]);
-    p.c_p[i] = materials[p.material_p[i]].sound_speed(p.rho_p[i], energy_density(p, i));
+    const Material& mat = materials[p.material_p[i]];
+    p.c_p[i] = mat.sound_speed(p.rho_p[i], energy_density(p, mat, i));
     p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
   }
   // Real particles gather from every neighbour of their group (mirror images included);
