@@ -76,7 +76,7 @@ struct FrameWriter::Cloud {
   vtkSmartPointer<vtkUnstructuredGrid> grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkSmartPointer<vtkPoints> points = vtkSmartPointer<vtkPoints>::New();
   vtkSmartPointer<vtkDoubleArray> displacement, velocity, stress, von_mises, pressure, density, h,
-      internal_energy;
+      internal_energy, mass;
   vtkSmartPointer<vtkIntArray> neighbours, body_id, id;
   std::unique_ptr<History> history;
 };
@@ -134,12 +134,13 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
     c.density = double_array("density", 1, n);
     c.h = double_array("h", 1, n);
     c.internal_energy = double_array("internal_energy", 1, n);
+    c.mass = double_array("mass", 1, n);
     c.neighbours = int_array("neighbours", particles.neighbours_p);
     c.body_id = int_array("body_id", particles.body_p);
     c.id = int_array("id", std::vector<int>(particles.id_p.begin(), particles.id_p.end()));
     auto* pd = c.grid->GetPointData();
     for (auto& a : {c.displacement, c.velocity, c.stress, c.von_mises, c.pressure, c.density, c.h,
-                    c.internal_energy})
+                    c.internal_energy, c.mass})
       pd->AddArray(a);
     for (auto& a : {c.neighbours, c.body_id, c.id})
       pd->AddArray(a);
@@ -231,6 +232,7 @@ void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
       c.density->SetValue(i, p.rho_p[i]);
       c.h->SetValue(i, p.h_p[i]);
       c.internal_energy->SetValue(i, p.e_p[i] / p.m_p[i]);
+      c.mass->SetValue(i, p.m_p[i]);
       c.neighbours->SetValue(i, p.neighbours_p[i]);
       c.body_id->SetValue(i, p.body_p[i]);
       c.id->SetValue(i, p.id_p[i]);

@@ -6,7 +6,7 @@
 // FE point data: displacement (m), velocity (m/s), body_id; cell data: stress (symmetric
 // tensor XX YY ZZ XY YZ XZ, Pa), von_mises (Pa), pressure (Pa), density (kg/m³), body_id.
 // Particle point data: displacement, velocity, stress, von_mises, pressure, density, h (m),
-// internal_energy (specific, J/kg), neighbours (count within 2h), body_id, id (index in
+// internal_energy (specific, J/kg), mass (kg), neighbours (count within 2h), body_id, id (index in
 // model.h5).
 // With a Johnson–Cook material, also plastic_strain, damage and temperature (K) on particles
 // and cells, killed (particles, 0/1) and eroded (cells, 0/1); eroded cells are marked hidden
