@@ -1,8 +1,8 @@
 #include "app/commands.hpp"
 
 #include "app/material_command.hpp"
+#include "app/post_commands.hpp"
 #include "mesher/mesher.hpp"
-#include "post/history_plot.hpp"
 #include "solver/core/error.hpp"
 #include "solver/io/case_reader.hpp"
 #include "solver/io/model_h5.hpp"
@@ -91,35 +91,6 @@ void print_outputs(const fs::path& out, const nlohmann::json& summary) {
             << " s\n";
 }
 
-void add_post_history(CLI::App& post, post::HistoryPlotOptions& o, std::string& size) {
-  auto* history = post.add_subcommand(
-      "history", "charts of run histories: one PNG and one CSV per column, runs compared");
-  history->footer(
-      "Writes DIR/<column>.png (the column against time, one curve per run, the reference\n"
-      "dashed) and DIR/<column>.csv (series,time,value: exactly what is plotted, in the chart's\n"
-      "units); DIR is -o, else RUN/post. Units: time by --time-unit, velocity m/s, stress and\n"
-      "pressure GPa, displacement mm, energy J. Needs no display. Example:\n"
-      "  sphfem post history out/bar_pressed_fe --compare out/bar_pressed_sph --columns mid.vz");
-  history->add_option("RUN", o.run, "run folder (holding history.csv)")->required();
-  history
-      ->add_option("--columns", o.columns,
-                   "columns to plot, comma-separated (default: every probe's vz and szz and "
-                   "every body's vz)")
-      ->delimiter(',');
-  history->add_option("--compare", o.compare, "more run folders on the same axes")->expected(1, -1);
-  history
-      ->add_option("--label", o.labels,
-                   "legend names of the run, then of each compared run (default: folder names)")
-      ->expected(1, -1);
-  history->add_option("--reference", o.reference,
-                      "CSV with a time column (s) and columns named as in history.csv (SI), "
-                      "plotted dashed");
-  history->add_option("-o,--out", o.out_dir, "output folder (default: RUN/post)");
-  history->add_option("--time-unit", o.time_unit, "time axis unit: s, ms, us or ns")
-      ->capture_default_str();
-  history->add_option("--size", size, "image size in pixels, WIDTHxHEIGHT")->capture_default_str();
-}
-
 } // namespace
 
 int run_command_line(int argc, char** argv) {
@@ -136,11 +107,7 @@ int run_command_line(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "mesh + solve: the one-command pipeline");
   add_common(*run, run_o);
 
-  auto* post_cmd = app.add_subcommand("post", "charts and tables from a run's results");
-  post_cmd->require_subcommand(1);
-  post::HistoryPlotOptions history_o;
-  std::string history_size = "900x560";
-  add_post_history(*post_cmd, history_o, history_size);
+  PostCommands post_commands(app);
 
   MaterialCommandOptions material_o;
   auto* material_cmd = add_material_command(app, material_o);
@@ -161,10 +128,8 @@ int run_command_line(int argc, char** argv) {
       run_material_command(material_o);
       return 0;
     }
-    if (post_cmd->parsed()) {
-      std::tie(history_o.width, history_o.height) = post::parse_image_size(history_size);
-      for (const auto& plot : post::plot_history(history_o))
-        std::cout << "chart:  " << plot.png.string() << "  (data: " << plot.csv.string() << ")\n";
+    if (post_commands.parsed()) {
+      post_commands.run();
       return 0;
     }
     const bool remesh = run->parsed();
@@ -175,6 +140,8 @@ int run_command_line(int argc, char** argv) {
     const Model model = remesh ? mesh_and_write(c, out, o.quiet) : current_model(c, out, o.quiet);
     const auto summary = solve(c, model, {out, !o.quiet});
     print_outputs(out, summary);
+    if (remesh)
+      write_run_report(out);
     return 0;
   } catch (const Error& e) {
     std::cerr << "sphfem: error: " << e.what() << "\n";

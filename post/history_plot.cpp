@@ -3,6 +3,7 @@
 #include "post/line_chart.hpp"
 #include "solver/core/error.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -85,6 +86,34 @@ std::vector<std::string> default_history_columns(const History& history) {
   return out;
 }
 
+std::vector<std::string> selected_history_columns(const History& history,
+                                                  const std::vector<std::string>& probes,
+                                                  const std::vector<std::string>& bodies) {
+  std::vector<std::string> known_probes, known_bodies;
+  for (const auto& c : history.columns)
+    if (c.rfind("body.", 0) == 0 && ends_with(c, ".vz"))
+      known_bodies.push_back(c.substr(5, c.size() - 8));
+    else if (ends_with(c, ".vz") && c.find('.') == c.size() - 3)
+      known_probes.push_back(c.substr(0, c.size() - 3));
+  std::vector<std::string> wanted;
+  for (const auto& p : probes) {
+    SPHFEM_CHECK(std::ranges::find(known_probes, p) != known_probes.end(), "--probes: no probe ", p,
+                 " in the history; probes: ", list(known_probes));
+    wanted.push_back(p + ".vz");
+    wanted.push_back(p + ".szz");
+  }
+  for (const auto& b : bodies) {
+    SPHFEM_CHECK(std::ranges::find(known_bodies, b) != known_bodies.end(), "--bodies: no body ", b,
+                 " in the history; bodies: ", list(known_bodies));
+    wanted.push_back("body." + b + ".vz");
+  }
+  std::vector<std::string> out;
+  for (const auto& c : history.columns)
+    if (std::ranges::find(wanted, c) != wanted.end())
+      out.push_back(c);
+  return out;
+}
+
 PlotUnit time_unit(const std::string& name) {
   if (name == "s")
     return {1, "s"};
@@ -131,7 +160,10 @@ std::vector<HistoryPlot> plot_history(const HistoryPlotOptions& o) {
     runs.push_back(
         load_run(i == 0 ? o.run : o.compare[i - 1], i < o.labels.size() ? o.labels[i] : ""));
   const std::vector<std::string> columns =
-      o.columns.empty() ? default_history_columns(runs[0].history) : o.columns;
+      !o.columns.empty() ? o.columns
+      : o.probes.empty() && o.bodies.empty()
+          ? default_history_columns(runs[0].history)
+          : selected_history_columns(runs[0].history, o.probes, o.bodies);
   SPHFEM_CHECK(!columns.empty(), runs[0].file.string(),
                ": no probe or body velocity columns; choose some with --columns from: ",
                list(runs[0].history.columns));

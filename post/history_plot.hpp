@@ -23,7 +23,9 @@ struct HistoryPlotOptions {
   std::filesystem::path run;                  // OUT, holding history.csv
   std::vector<std::filesystem::path> compare; // more runs on the same axes
   std::vector<std::string> labels;  // legend names of run, compare…; default folder name
-  std::vector<std::string> columns; // empty: default_history_columns()
+  std::vector<std::string> columns; // empty: default_history_columns(), or those of:
+  std::vector<std::string> probes;  // these probes' vz and szz
+  std::vector<std::string> bodies;  // these bodies' centre-of-mass vz
   std::filesystem::path reference;  // optional CSV with `time` and same-named columns
   std::filesystem::path out_dir;    // empty: OUT/plots
   std::string time_unit = "us";     // s, ms, us or ns
@@ -40,6 +42,11 @@ std::vector<HistoryPlot> plot_history(const HistoryPlotOptions& options);
 
 // Every probe's vz and szz and every body's vz, in the file's column order.
 std::vector<std::string> default_history_columns(const History& history);
+// The vz and szz of the named probes and the vz of the named bodies, in the file's column
+// order; an unknown name is an Error that lists the known ones.
+std::vector<std::string> selected_history_columns(const History& history,
+                                                  const std::vector<std::string>& probes,
+                                                  const std::vector<std::string>& bodies);
 
 // How a column is plotted: plotted value = SI value × scale, in `unit`.
 struct PlotUnit {

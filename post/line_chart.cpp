@@ -119,6 +119,17 @@ struct Coverage {
         slot = std::max(slot, float(a));
       }
   }
+  // A filled dot of `radius` px at (cx, cy), with a one-pixel ramp.
+  void dot(double cx, double cy, double radius, const LineChart::Rect& clip) {
+    for (int y = std::max(clip.top, int(std::floor(cy - radius - 1)));
+         y <= std::min(clip.bottom, int(std::ceil(cy + radius + 1))); ++y)
+      for (int x = std::max(clip.left, int(std::floor(cx - radius - 1)));
+           x <= std::min(clip.right, int(std::ceil(cx + radius + 1))); ++x) {
+        const double a = std::clamp(radius + 0.5 - std::hypot(x - cx, y - cy), 0., 1.);
+        float& slot = alpha[std::size_t(y) * width + x];
+        slot = std::max(slot, float(a));
+      }
+  }
   double sum(int x0, int y0, int x1, int y1) const {
     double s = 0;
     for (int y = std::max(y0, 0); y <= std::min(y1, height - 1); ++y)
@@ -210,9 +221,24 @@ LineChart::Axis LineChart::y_axis() const {
   return {a[0], a[1], a[2]};
 }
 
+void LineChart::axes(Axis& x, Axis& y) const {
+  x = x_axis();
+  y = y_axis();
+  if (!equal_aspect_)
+    return;
+  // The axis with more pixels per data unit is widened about its centre to the other's scale.
+  const Rect r = plot_area(width_, height_);
+  const double kx = (r.right - r.left) / (x.max - x.min), ky = (r.bottom - r.top) / (y.max - y.min);
+  Axis& wide = kx > ky ? x : y;
+  const double range = kx > ky ? (r.right - r.left) / ky : (r.bottom - r.top) / kx;
+  const double centre = (wide.min + wide.max) / 2;
+  wide = {centre - range / 2, centre + range / 2, nice(range / 6)};
+}
+
 void LineChart::pixel(double x, double y, double& px, double& py) const {
   const Rect r = plot_area(width_, height_);
-  const Axis ax = x_axis(), ay = y_axis();
+  Axis ax, ay;
+  axes(ax, ay);
   px = r.left + (x - ax.min) / (ax.max - ax.min) * (r.right - r.left);
   py = r.bottom - (y - ay.min) / (ay.max - ay.min) * (r.bottom - r.top);
 }
@@ -220,12 +246,15 @@ void LineChart::pixel(double x, double y, double& px, double& py) const {
 std::vector<unsigned char> LineChart::render() const {
   Canvas canvas(width_, height_);
   const Rect r = plot_area(width_, height_);
-  const Axis ax = x_axis(), ay = y_axis();
+  Axis ax, ay;
+  axes(ax, ay);
 
-  // Grid and tick labels.
+  // Grid and tick labels at the multiples of the step.
   Text x_ticks(12, VTK_TEXT_CENTERED, VTK_TEXT_TOP), y_ticks(12, VTK_TEXT_RIGHT, VTK_TEXT_CENTERED);
-  for (int k = 0; ax.min + k * ax.step <= ax.max + 1e-9 * ax.step; ++k) {
-    const double v = ax.min + k * ax.step;
+  const double x_first = std::ceil(ax.min / ax.step - 1e-9);
+  const double y_first = std::ceil(ay.min / ay.step - 1e-9);
+  for (double k = x_first; k * ax.step <= ax.max + 1e-9 * ax.step; ++k) {
+    const double v = k * ax.step;
     double px, py;
     pixel(v, ay.min, px, py);
     const int x = int(std::lround(px));
@@ -233,8 +262,8 @@ std::vector<unsigned char> LineChart::render() const {
     canvas.fill(x, r.bottom, x, r.bottom + 5, black);
     x_ticks.draw(canvas, tick_label(v, ax.step), x, r.bottom + 8);
   }
-  for (int k = 0; ay.min + k * ay.step <= ay.max + 1e-9 * ay.step; ++k) {
-    const double v = ay.min + k * ay.step;
+  for (double k = y_first; k * ay.step <= ay.max + 1e-9 * ay.step; ++k) {
+    const double v = k * ay.step;
     double px, py;
     pixel(ax.min, v, px, py);
     const int y = int(std::lround(py));
@@ -257,7 +286,9 @@ std::vector<unsigned char> LineChart::render() const {
       }
       double px, py;
       pixel(s.x[i], s.y[i], px, py);
-      if (prev) {
+      if (s.style.marker > 0)
+        c.dot(px, py, s.style.marker, inside);
+      if (prev && s.style.width > 0) {
         c.segment(prev_x, prev_y, px, py, arc, s.style, inside);
         arc += std::hypot(px - prev_x, py - prev_y);
       }
@@ -295,8 +326,11 @@ std::vector<unsigned char> LineChart::render() const {
     for (std::size_t i = 0; i < series_.size(); ++i) {
       const int y = y0 + pad + line * int(i) + line / 2;
       Coverage c(width_, height_);
-      c.segment(x0 + pad, y, x0 + pad + sample, y, 0, series_[i].style,
-                {0, 0, width_ - 1, height_ - 1});
+      const Rect all_image{0, 0, width_ - 1, height_ - 1};
+      if (series_[i].style.width > 0)
+        c.segment(x0 + pad, y, x0 + pad + sample, y, 0, series_[i].style, all_image);
+      if (series_[i].style.marker > 0)
+        c.dot(x0 + pad + sample / 2.0, y, series_[i].style.marker, all_image);
       for (std::size_t k = 0; k < c.alpha.size(); ++k)
         if (c.alpha[k] > 0)
           canvas.blend(int(k % width_), int(k / width_), series_[i].style.colour, c.alpha[k]);

@@ -7,7 +7,9 @@
 // σzz). vtkTextRenderer, unlike VTK 9.1's vtkFreeTypeTools string calls, decodes UTF-8.
 // Pixel coordinates: x to the right, y down from the top-left corner, as the PNG is viewed;
 // integer coordinates are pixel centres. Axes span "nice" ranges (steps 1, 2, 5 × 10^k) that
-// cover every finite point; a non-finite value breaks its line.
+// cover every finite point; a non-finite value breaks its line. With equal aspect on, one data
+// unit spans as many pixels on both axes (sections, shapes), the shorter range widened about its
+// centre. A series may draw dots at its points (markers) with or without the line between them.
 // Verified by tests/post/line_chart_test.cpp.
 #pragma once
 
@@ -23,8 +25,9 @@ struct Rgb {
 
 struct LineStyle {
   Rgb colour;
-  double width = 2.0; // px
+  double width = 2.0; // px; 0: no line, only markers
   bool dashed = false;
+  double marker = 0; // radius of a filled dot at each point, px; 0: none
 };
 
 class LineChart {
@@ -39,6 +42,7 @@ public:
   void set_x_label(std::string label) { x_label_ = std::move(label); }
   void set_y_label(std::string label) { y_label_ = std::move(label); }
   void add_series(std::string label, std::vector<double> x, std::vector<double> y, LineStyle style);
+  void set_equal_aspect(bool on) { equal_aspect_ = on; }
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -66,10 +70,12 @@ private:
 
   Axis x_axis() const;
   Axis y_axis() const;
+  void axes(Axis& x, Axis& y) const; // x_axis() and y_axis(), widened for equal aspect
 
   int width_, height_;
   std::string title_, x_label_, y_label_;
   std::vector<Series> series_;
+  bool equal_aspect_ = false;
 };
 
 } // namespace sphfem::post

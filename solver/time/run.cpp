@@ -156,6 +156,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   const Energies e = sim.energies();
   nlohmann::json summary;
   summary["case"] = c.name;
+  if (!c.file.empty())
+    summary["case_file"] = std::filesystem::absolute(c.file).lexically_normal().string();
   summary["steps"] = sim.steps();
   summary["time"] = sim.time();
   summary["wall_s"] = wall;

@@ -3,6 +3,9 @@
 // Mie–Grüneisen EOS, both from cases/materials/) at 800 m/s. The run must kill particles and
 // still conserve mass and momentum, keep the energy balance, and write the material history
 // to the frames and the kill counts to summary.json.
+#include "tests/support/command.hpp"
+#include "tests/support/punch_case.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -12,50 +15,13 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-const std::string materials = std::string(SPHFEM_SOURCE_DIR) + "/cases/materials/";
-
-std::string punch_case() {
-  return R"(name: punch
-time: {end: 1.5e-5, cfl: 0.5, output_interval: 5.0e-6, history_interval: 1.0e-7}
-materials:
-  weldox460e: {library: )" +
-         materials + R"(weldox460e.yaml}
-  arne: {library: )" +
-         materials + R"(arne.yaml}
-bodies:
-  plate:
-    method: sph
-    geometry: {box: {min: [-0.012, -0.012, -0.004], max: [0.012, 0.012, 0.0]}}
-    spacing: 0.001
-    material: weldox460e
-  projectile:
-    method: fem
-    geometry: {box: {min: [-0.005, -0.005, 0.003], max: [0.005, 0.005, 0.015]}}
-    element_size: 0.001
-    material: arne
-    velocity: [0, 0, -800]
-contact:
-  - {bodies: [plate, projectile], penalty: 1.0e11, exponent: 2}
-)";
-}
-
-} // namespace
+using sphfem::test::slurp;
 
 TEST(PerforationSmoke, KillsParticlesAndConservesWhatItMust) {
   const fs::path dir = fs::temp_directory_path() / "sphfem_e2e_punch";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::ofstream(dir / "case.yaml") << punch_case();
+  std::ofstream(dir / "case.yaml") << sphfem::test::punch_case(0.012, 0.005, 0.012);
   const std::string cmd = std::string(SPHFEM_BINARY) + " run " + (dir / "case.yaml").string() +
                           " -o " + (dir / "out").string() + " -q > " + (dir / "log.txt").string() +
                           " 2>&1";

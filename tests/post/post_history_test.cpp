@@ -3,7 +3,9 @@
 // reference) where the data put it; the CSV holds exactly the plotted data in the chart's
 // units; bad input fails with one line naming the problem and writes nothing.
 #include "png_pixels.hpp"
+#include "tests/support/command.hpp"
 
+#include "post/history_plot.hpp"
 #include "post/line_chart.hpp"
 #include "post/post.hpp"
 
@@ -22,43 +24,12 @@
 
 namespace fs = std::filesystem;
 using sphfem::post::LineChart;
+using sphfem::test::Result;
+using sphfem::test::run_sphfem;
+using sphfem::test::Scratch;
+using sphfem::test::slurp;
 
 namespace {
-
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// A fresh folder per test and process (test runs from several build folders may overlap),
-// removed when the test passes.
-struct Scratch {
-  fs::path dir;
-  explicit Scratch(const std::string& name)
-      : dir(fs::temp_directory_path() /
-            ("sphfem_post_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    if (!::testing::Test::HasFailure())
-      fs::remove_all(dir);
-  }
-};
-
-Result run_sphfem(const std::string& args, const fs::path& dir) {
-  const std::string cmd = "env -u DISPLAY " + std::string(SPHFEM_BINARY) + " " + args + " >" +
-                          (dir / "stdout.txt").string() + " 2>" + (dir / "stderr.txt").string();
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
-}
 
 // A run folder whose history has straight lines over t = 0 … 10 µs: tip.vz = −slope·t[µs]
 // m/s, tip.szz = −t[µs] GPa, body.bar.vz = −5·t[µs] m/s.
@@ -121,7 +92,7 @@ std::vector<CsvRow> read_plot_csv(const fs::path& file, std::string& header) {
 } // namespace
 
 TEST(PostHistory, ChartShowsEveryRunAndTheReferenceWhereTheDataSay) {
-  const Scratch scratch("chart");
+  const Scratch scratch("post_chart");
   const fs::path& dir = scratch.dir;
   const fs::path a = write_run(dir, "fe", 10), b = write_run(dir, "sph", 5);
   std::ofstream(dir / "ref.csv")
@@ -163,7 +134,7 @@ TEST(PostHistory, ChartShowsEveryRunAndTheReferenceWhereTheDataSay) {
 }
 
 TEST(PostHistory, CsvHoldsThePlottedDataInChartUnits) {
-  const Scratch scratch("csv");
+  const Scratch scratch("post_csv");
   const fs::path& dir = scratch.dir;
   const fs::path a = write_run(dir, "fe", 10), b = write_run(dir, "sph", 5);
   std::ofstream(dir / "ref.csv") << "time,tip.szz\n0,0\n5e-6,\n1e-5,-1e10\n";
@@ -199,7 +170,7 @@ TEST(PostHistory, CsvHoldsThePlottedDataInChartUnits) {
 }
 
 TEST(PostHistory, TimeUnitAndLabelsReachTheCsv) {
-  const Scratch scratch("units");
+  const Scratch scratch("post_units");
   const fs::path& dir = scratch.dir;
   const fs::path a = write_run(dir, "fe", 10);
   const auto r = run_sphfem("post history " + a.string() +
@@ -216,7 +187,7 @@ TEST(PostHistory, TimeUnitAndLabelsReachTheCsv) {
 }
 
 TEST(PostHistory, BadInputFailsWithOneLineAndWritesNothing) {
-  const Scratch scratch("errors");
+  const Scratch scratch("post_errors");
   const fs::path& dir = scratch.dir;
   const fs::path a = write_run(dir, "fe", 10);
   std::ofstream(dir / "bad.csv") << "time,tip.vz\n0,0\n1e-6,abc\n";
@@ -253,8 +224,26 @@ TEST(PostHistory, BadInputFailsWithOneLineAndWritesNothing) {
   }
 }
 
+TEST(PostHistory, ProbesAndBodiesChooseTheirColumns) {
+  Scratch s("post_select");
+  const fs::path run = write_run(s.dir, "run", 10);
+  const auto history = sphfem::post::read_history_csv(run / "history.csv");
+  using V = std::vector<std::string>;
+  EXPECT_EQ(sphfem::post::selected_history_columns(history, {"tip"}, {}), (V{"tip.vz", "tip.szz"}));
+  EXPECT_EQ(sphfem::post::selected_history_columns(history, {}, {"bar"}), (V{"body.bar.vz"}));
+  const Result r = run_sphfem(
+      "post history " + run.string() + " --bodies bar -o " + (s.dir / "plots").string(), s.dir);
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s.dir / "plots" / "body.bar.vz.png"));
+  EXPECT_FALSE(fs::exists(s.dir / "plots" / "tip.vz.png"));
+  const Result bad = run_sphfem("post history " + run.string() + " --probes nose", s.dir);
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find("--probes: no probe nose in the history; probes: tip"), std::string::npos)
+      << bad.err;
+}
+
 TEST(PostHistory, HelpDescribesTheCommand) {
-  const Scratch scratch("help");
+  const Scratch scratch("post_help");
   const fs::path& dir = scratch.dir;
   const auto r = run_sphfem("post history --help", dir);
   EXPECT_EQ(r.code, 0);

@@ -1,0 +1,408 @@
+#include "post/plug.hpp"
+
+#include "post/line_chart.hpp"
+#include "post/post.hpp"
+#include "solver/core/error.hpp"
+#include "solver/fem/hex8.hpp"
+#include "solver/io/model_h5.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+namespace sphfem::post {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One frame of results.pvd: its particle and FE files (empty if the model has none).
+struct FrameFiles {
+  double time;
+  fs::path particles, elements;
+};
+
+std::vector<FrameFiles> frame_list(const fs::path& pvd) {
+  std::vector<FrameFiles> frames;
+  for (const auto& [time, file] : read_pvd(pvd)) {
+    if (frames.empty() || frames.back().time != time)
+      frames.push_back({time, {}, {}});
+    const fs::path path = pvd.parent_path() / file;
+    // frame_writer names the parts fe_NNNNNN.vtu and sph_NNNNNN.vtu.
+    (path.filename().string().rfind("sph_", 0) == 0 ? frames.back().particles
+                                                    : frames.back().elements) = path;
+  }
+  SPHFEM_CHECK(!frames.empty(), pvd.string(), ": lists no frames");
+  return frames;
+}
+
+// Everything of one frame the fragment search needs, for all bodies.
+struct Frame {
+  std::vector<Vec3> x_p, v_p;
+  std::vector<double> m_p;
+  std::vector<int> body_p;
+  std::vector<char> killed_p;
+  std::vector<Vec3> x_n, v_n;
+  std::vector<Hex> hex_e;
+  std::vector<double> m_e;
+  std::vector<int> body_e;
+  std::vector<char> eroded_e;
+};
+
+vtkDataArray* array(vtkDataSetAttributes* data, const char* name, int components, vtkIdType count,
+                    const fs::path& file, bool required = true) {
+  vtkDataArray* a = data->GetArray(name);
+  SPHFEM_CHECK(a || !required, file.string(), ": no ", name, " array");
+  if (a)
+    SPHFEM_CHECK(a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == count,
+                 file.string(), ": array ", name, " has ", a->GetNumberOfTuples(), "×",
+                 a->GetNumberOfComponents(), " values, expected ", count, "×", components);
+  return a;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& file) {
+  SPHFEM_CHECK(fs::is_regular_file(file), file.string(), ": no such frame file");
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(file.string().c_str());
+  reader->Update();
+  vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
+  SPHFEM_CHECK(grid && grid->GetNumberOfPoints() > 0, file.string(), ": cannot read the frame");
+  return grid;
+}
+
+Vec3 tuple3(vtkDataArray* a, vtkIdType i) {
+  const double* t = a->GetTuple3(i);
+  return {t[0], t[1], t[2]};
+}
+
+Frame read_frame(const FrameFiles& files) {
+  Frame f;
+  if (!files.particles.empty()) {
+    const auto grid = read_vtu(files.particles);
+    const vtkIdType n = grid->GetNumberOfPoints();
+    auto* pd = grid->GetPointData();
+    auto* v = array(pd, "velocity", 3, n, files.particles);
+    auto* m = array(pd, "mass", 1, n, files.particles);
+    auto* body = array(pd, "body_id", 1, n, files.particles);
+    auto* killed = array(pd, "killed", 1, n, files.particles, false);
+    for (vtkIdType i = 0; i < n; ++i) {
+      double x[3];
+      grid->GetPoint(i, x);
+      f.x_p.emplace_back(x[0], x[1], x[2]);
+      f.v_p.push_back(tuple3(v, i));
+      f.m_p.push_back(m->GetComponent(i, 0));
+      f.body_p.push_back(int(body->GetComponent(i, 0)));
+      f.killed_p.push_back(killed && killed->GetComponent(i, 0) != 0);
+    }
+  }
+  if (!files.elements.empty()) {
+    const auto grid = read_vtu(files.elements);
+    const vtkIdType n = grid->GetNumberOfPoints(), ne = grid->GetNumberOfCells();
+    auto* v = array(grid->GetPointData(), "velocity", 3, n, files.elements);
+    auto* cd = grid->GetCellData();
+    auto* density = array(cd, "density", 1, ne, files.elements);
+    auto* body = array(cd, "body_id", 1, ne, files.elements);
+    auto* eroded = array(cd, "eroded", 1, ne, files.elements, false);
+    for (vtkIdType i = 0; i < n; ++i) {
+      double x[3];
+      grid->GetPoint(i, x);
+      f.x_n.emplace_back(x[0], x[1], x[2]);
+      f.v_n.push_back(tuple3(v, i));
+    }
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType k = 0; k < ne; ++k) {
+      SPHFEM_CHECK(grid->GetCellType(k) == VTK_HEXAHEDRON, files.elements.string(), ": cell ", k,
+                   " is not a hexahedron");
+      grid->GetCellPoints(k, ids);
+      Hex hex;
+      HexPoints x;
+      for (int a = 0; a < 8; ++a) {
+        hex[a] = Index(ids->GetId(a));
+        x[a] = f.x_n[hex[a]];
+      }
+      f.hex_e.push_back(hex);
+      f.m_e.push_back(density->GetComponent(k, 0) * hex8_gradient(x).volume);
+      f.body_e.push_back(int(body->GetComponent(k, 0)));
+      f.eroded_e.push_back(eroded && eroded->GetComponent(k, 0) != 0);
+    }
+  }
+  return f;
+}
+
+// The target body's part of a frame (all nodes kept: elements index them).
+FragmentSource select_body(const Frame& f, int body) {
+  FragmentSource s;
+  for (std::size_t i = 0; i < f.x_p.size(); ++i)
+    if (f.body_p[i] == body) {
+      s.x_p.push_back(f.x_p[i]);
+      s.v_p.push_back(f.v_p[i]);
+      s.m_p.push_back(f.m_p[i]);
+      s.killed_p.push_back(f.killed_p[i]);
+    }
+  s.x_n = f.x_n;
+  s.v_n = f.v_n;
+  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
+    if (f.body_e[k] == body) {
+      s.hex_e.push_back(f.hex_e[k]);
+      s.m_e.push_back(f.m_e[k]);
+      s.eroded_e.push_back(f.eroded_e[k]);
+    }
+  return s;
+}
+
+// Total momentum of every body but `body`, kg m/s.
+Vec3 momentum_of_others(const Frame& f, int body) {
+  Vec3 p = Vec3::Zero();
+  for (std::size_t i = 0; i < f.x_p.size(); ++i)
+    if (f.body_p[i] != body)
+      p += f.m_p[i] * f.v_p[i];
+  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
+    if (f.body_e[k] != body)
+      for (Index n : f.hex_e[k])
+        p += f.m_e[k] / 8 * f.v_n[n];
+  return p;
+}
+
+int target_body(const Model& model, const std::string& name, const fs::path& file) {
+  std::string names;
+  for (const auto& b : model.body_names)
+    names += (names.empty() ? "" : ", ") + b;
+  if (!name.empty()) {
+    for (std::size_t b = 0; b < model.body_names.size(); ++b)
+      if (model.body_names[b] == name)
+        return int(b);
+    throw Error("--body " + name + ": no such body in " + file.string() + " (bodies: " + names +
+                ")");
+  }
+  std::vector<char> has(model.body_names.size(), 0);
+  for (int b : model.body_p)
+    has[b] = 1;
+  std::vector<int> with;
+  std::string with_names;
+  for (std::size_t b = 0; b < has.size(); ++b)
+    if (has[b]) {
+      with.push_back(int(b));
+      with_names += (with_names.empty() ? "" : ", ") + model.body_names[b];
+    }
+  SPHFEM_CHECK(!with.empty(), file.string(),
+               ": no body has particles; choose the target with --body (bodies: ", names, ")");
+  SPHFEM_CHECK(with.size() == 1, file.string(), ": several bodies have particles (", with_names,
+               "); choose the target with --body");
+  return with[0];
+}
+
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
+std::string three_digits(double v) { // for labels: 6.69, 0.0785, 12.1
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", v);
+  return buffer;
+}
+
+// "x", "-z", … for a global axis, else "".
+std::string axis_name(const Vec3& a) {
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(a[k]) - 1) < 1e-12)
+      return std::string(a[k] < 0 ? "-" : "") + "xyz"[k];
+  return "";
+}
+
+void write_chart(const PlugResult& r, const FragmentSource& source, const FragmentSet& set,
+                 double spacing, const PlugOptions& o) {
+  // The drawing plane contains the impact axis; "up" is the axis turned towards its dominant
+  // global direction, so a projectile along −z still comes from the top.
+  Eigen::Index k = 0;
+  r.impact_axis.cwiseAbs().maxCoeff(&k);
+  const Vec3 up = r.impact_axis[k] < 0 ? Vec3(-r.impact_axis) : r.impact_axis;
+  const Vec3 lateral = lateral_direction(up);
+  const auto outlines = fragment_outlines(source, set, lateral, up, spacing);
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Series {
+    std::string label;
+    LineStyle style;
+    std::vector<double> x, y;
+  };
+  std::vector<Series> series(3);
+  const int others = int(outlines.size()) - 1 - (r.plug >= 0);
+  series[0] = {"main fragment, " +
+                   three_digits(r.fragments.empty() ? 0 : r.fragments[0].mass * 1e3) + " g",
+               {LineChart::palette(0), 2.0, false},
+               {},
+               {}};
+  series[1] = {r.plug < 0 ? ""
+                          : "plug, " + three_digits(r.fragments[r.plug].mass * 1e3) + " g, " +
+                                three_digits(r.fragments[r.plug].diameter * 1e3) + " mm across",
+               {LineChart::palette(1), 3.0, false},
+               {},
+               {}};
+  series[2] = {std::to_string(others) + " other fragment" + (others == 1 ? "" : "s"),
+               {{110, 110, 110}, 1.2, false},
+               {},
+               {}};
+  const double inf = std::numeric_limits<double>::infinity();
+  double lo_x = inf, hi_x = -inf, lo_y = inf, hi_y = -inf;
+  for (std::size_t f = 0; f < outlines.size(); ++f) {
+    Series& s = series[f == 0 ? 0 : int(f) == r.plug ? 1 : 2];
+    const auto& hull = outlines[f];
+    for (std::size_t i = 0; i <= hull.size(); ++i) { // closed
+      const Point2 p = hull[i % hull.size()] * 1e3;
+      s.x.push_back(p.x());
+      s.y.push_back(p.y());
+      lo_x = std::min(lo_x, p.x()), hi_x = std::max(hi_x, p.x());
+      lo_y = std::min(lo_y, p.y()), hi_y = std::max(hi_y, p.y());
+    }
+    s.x.push_back(nan); // a break before the next outline
+    s.y.push_back(nan);
+  }
+  if (!outlines.empty()) {
+    // Equal scales on both axes: two isolated points (drawn as nothing) widen the short side.
+    const auto area = LineChart::plot_area(o.width, o.height);
+    const double w = area.right - area.left, h = area.bottom - area.top;
+    const double mm_per_px = std::max((hi_x - lo_x) / w, (hi_y - lo_y) / h) * 1.05;
+    const double cx = (lo_x + hi_x) / 2, cy = (lo_y + hi_y) / 2;
+    series[0].x.insert(series[0].x.end(), {cx - mm_per_px * w / 2, nan, cx + mm_per_px * w / 2});
+    series[0].y.insert(series[0].y.end(), {cy - mm_per_px * h / 2, nan, cy + mm_per_px * h / 2});
+  }
+
+  LineChart chart(o.width, o.height);
+  char title[160];
+  if (r.plug >= 0)
+    std::snprintf(title, sizeof title, "t = %.1f \u00b5s: plug at %.0f m/s along the impact axis",
+                  r.time * 1e6, r.fragments[r.plug].velocity.dot(r.impact_axis));
+  else
+    std::snprintf(title, sizeof title, "t = %.1f \u00b5s: no plug", r.time * 1e6);
+  chart.set_title(title);
+  const std::string x_name = axis_name(lateral), y_name = axis_name(up);
+  chart.set_x_label((x_name.empty() ? "lateral" : x_name) + " (mm)");
+  chart.set_y_label((y_name.empty() ? "along the impact axis" : y_name) + " (mm)");
+  // Others first, so the main fragment and the plug are drawn over them.
+  for (int s : {2, 0, 1})
+    if (!series[s].x.empty())
+      chart.add_series(series[s].label, series[s].x, series[s].y, series[s].style);
+  chart.write_png(r.png);
+}
+
+} // namespace
+
+PlugResult write_plug(const PlugOptions& o) {
+  // Everything is read and checked before anything is written.
+  const fs::path pvd = o.run / "results.pvd", model_file = o.run / "model.h5";
+  SPHFEM_CHECK(fs::is_directory(o.run), o.run.string(), ": no such run folder");
+  SPHFEM_CHECK(fs::is_regular_file(pvd), o.run.string(),
+               ": not a run folder (no results.pvd; run `sphfem solve` first)");
+  SPHFEM_CHECK(fs::is_regular_file(model_file), o.run.string(), ": no model.h5");
+  SPHFEM_CHECK(std::isfinite(o.connect) && o.connect > 0, "--connect ", o.connect,
+               ": expected a positive factor of the lattice spacing");
+  (void)LineChart(o.width, o.height); // checks the size
+  const Model model = read_model_h5(model_file);
+  const int body = target_body(model, o.body, model_file);
+  const bool has_particles = std::count(model.body_p.begin(), model.body_p.end(), body) > 0;
+  const bool has_elements = std::count(model.body_e.begin(), model.body_e.end(), body) > 0;
+  SPHFEM_CHECK(has_particles || has_elements, "--body ", model.body_names[body],
+               ": has neither particles nor elements");
+  const double spacing = has_particles ? model.spacing_b[body] : 0;
+
+  const auto frames = frame_list(pvd);
+  std::size_t chosen = frames.size() - 1;
+  if (o.time)
+    for (std::size_t i = 0; i < frames.size(); ++i)
+      if (std::abs(frames[i].time - *o.time) < std::abs(frames[chosen].time - *o.time))
+        chosen = i;
+  const Frame first = read_frame(frames[0]);
+  const Frame frame = chosen == 0 ? first : read_frame(frames[chosen]);
+  const FragmentSource source = select_body(frame, body);
+  SPHFEM_CHECK(source.x_p.size() + source.hex_e.size() > 0, frames[chosen].particles.string(),
+               ": no particles or elements of body ", model.body_names[body]);
+
+  PlugResult r;
+  r.time = frames[chosen].time;
+  const Vec3 p0 = momentum_of_others(first, body);
+  std::string axis_from = "+z: the other bodies have no momentum in the first frame";
+  if (p0.norm() > 0) {
+    r.impact_axis = p0.normalized();
+    axis_from = "momentum of the other bodies at t = " + number(frames[0].time) + " s";
+  }
+  const double reach = o.connect * spacing;
+  FragmentSet set = find_fragments(source, reach, spacing, r.impact_axis);
+  r.fragments = set.fragments;
+  r.main = r.fragments.empty() ? -1 : 0;
+  r.plug = find_plug(r.fragments, r.impact_axis);
+  r.debris_mass = set.debris_mass;
+
+  const fs::path dir = o.out_dir.empty() ? o.run / "post" : o.out_dir;
+  std::error_code failed;
+  fs::create_directories(dir, failed);
+  SPHFEM_CHECK(!failed, dir.string(), ": cannot create the folder: ", failed.message());
+  r.json = dir / "plug.json";
+  r.csv = dir / "fragments.csv";
+  r.png = dir / "plug.png";
+
+  auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
+  nlohmann::json j;
+  j["time_s"] = r.time;
+  j["body"] = model.body_names[body];
+  j["impact_axis"] = vec(r.impact_axis);
+  j["impact_axis_from"] = axis_from;
+  j["spacing_m"] = spacing;
+  j["connect_distance_m"] = reach;
+  j["outline"] = "convex hull of the points projected on a plane containing the impact axis";
+  j["debris"] = {{"particles", set.debris_particles},
+                 {"elements", set.debris_elements},
+                 {"mass_kg", set.debris_mass}};
+  j["fragments"] = nlohmann::json::array();
+  for (const Fragment& f : r.fragments)
+    j["fragments"].push_back({{"mass_kg", f.mass},
+                              {"com_m", vec(f.com)},
+                              {"velocity_m_per_s", vec(f.velocity)},
+                              {"axial_velocity_m_per_s", f.velocity.dot(r.impact_axis)},
+                              {"particles", f.particles},
+                              {"elements", f.elements},
+                              {"diameter_m", f.diameter},
+                              {"thickness_m", f.thickness}});
+  j["main"] = r.main < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.main);
+  j["plug"] = r.plug < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.plug);
+  std::ofstream json(r.json);
+  json << j.dump(2) << "\n";
+  SPHFEM_CHECK(json.flush(), r.json.string(), ": cannot write");
+
+  std::ofstream csv(r.csv);
+  csv << "fragment,role,mass [kg],com_x [m],com_y [m],com_z [m],vx [m/s],vy [m/s],vz [m/s],"
+         "v_axial [m/s],particles,elements,diameter [m],thickness [m]\n";
+  for (std::size_t f = 0; f < r.fragments.size(); ++f) {
+    const Fragment& x = r.fragments[f];
+    csv << f << ","
+        << (int(f) == r.main   ? "main"
+            : int(f) == r.plug ? "plug"
+                               : "")
+        << "," << number(x.mass);
+    for (const Vec3* v : {&x.com, &x.velocity})
+      for (int c = 0; c < 3; ++c)
+        csv << "," << number((*v)[c]);
+    csv << "," << number(x.velocity.dot(r.impact_axis)) << "," << x.particles << "," << x.elements
+        << "," << number(x.diameter) << "," << number(x.thickness) << "\n";
+  }
+  SPHFEM_CHECK(csv.flush(), r.csv.string(), ": cannot write");
+
+  write_chart(r, source, set, spacing, o);
+  return r;
+}
+
+} // namespace sphfem::post

@@ -1,0 +1,45 @@
+// `sphfem post plug`: the fragments that have separated from the target and the plug, from one
+// frame of a run (OUT/results.pvd, OUT/model.h5). Fragments are found by post/fragments.hpp on
+// the target body's surviving particles (killed = 0) and elements (eroded = 0); element mass =
+// cell density × volume of the trilinear hexahedron on its current nodes.
+// Impact axis: the direction of the other bodies' total momentum in the first frame (element
+// momentum = ρ V × mean node velocity), else +z if they have none; plug.json says which.
+// Main = the most massive fragment; plug = the most massive other fragment moving along the
+// impact axis (velocity · axis > 0), if any.
+// Writes DIR/plug.json (SI units), DIR/fragments.csv (one row per fragment) and DIR/plug.png:
+// each fragment's outline, the convex hull of its points projected on a plane containing the
+// impact axis (particles as squares of side Δp), in mm, the plug highlighted.
+// Verified by tests/post/plug_test.cpp.
+#pragma once
+
+#include "post/fragments.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace sphfem::post {
+
+struct PlugOptions {
+  std::filesystem::path run;     // OUT, holding results.pvd and model.h5
+  std::string body;              // target body; empty: the only body with particles
+  std::optional<double> time;    // s; the frame nearest to it; empty: the last frame
+  double connect = 1.5;          // connectivity distance / lattice spacing
+  std::filesystem::path out_dir; // empty: OUT/post
+  int width = 900, height = 560;
+};
+
+struct PlugResult {
+  double time = 0; // s
+  Vec3 impact_axis = Vec3::UnitZ();
+  std::vector<Fragment> fragments; // most massive first
+  int main = -1, plug = -1;        // indices into fragments, -1: none
+  double debris_mass = 0;          // kg: killed particles and eroded elements
+  std::filesystem::path json, csv, png;
+};
+
+// Reads and checks everything before writing; bad input (no results.pvd or model.h5, unknown
+// body, several particle bodies without `body`, a missing frame) throws sphfem::Error.
+PlugResult write_plug(const PlugOptions& options);
+
+} // namespace sphfem::post

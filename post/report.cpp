@@ -1,0 +1,392 @@
+#include "post/report.hpp"
+
+#include "post/history_plot.hpp"
+#include "post/line_chart.hpp"
+#include "post/plug.hpp"
+#include "post/post.hpp"
+#include "post/section.hpp"
+#include "solver/core/error.hpp"
+#include "solver/io/atomic_file.hpp"
+#include "solver/io/model_h5.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+namespace sphfem::post {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string escape(const std::string& text) {
+  std::string out;
+  for (char c : text)
+    switch (c) {
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '&':
+      out += "&amp;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    default:
+      out += c;
+    }
+  return out;
+}
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"')
+      quoted = !quoted;
+    else if (c == ',' && !quoted) {
+      cells.push_back(cell);
+      cell.clear();
+    } else if (c != '\r')
+      cell += c;
+  }
+  cells.push_back(cell);
+  return cells;
+}
+
+// The value at a dotted path ("bodies.bar.com_velocity.2") of a JSON document.
+const nlohmann::json* at_path(const nlohmann::json& doc, const std::string& path) {
+  const nlohmann::json* node = &doc;
+  std::istringstream keys(path);
+  for (std::string key; std::getline(keys, key, '.');) {
+    if (node->is_object() && node->contains(key))
+      node = &(*node)[key];
+    else if (node->is_array() && !key.empty() &&
+             key.find_first_not_of("0123456789") == std::string::npos &&
+             std::stoul(key) < node->size())
+      node = &(*node)[std::stoul(key)];
+    else
+      return nullptr;
+  }
+  return node->is_number() ? node : nullptr;
+}
+
+// A reference quantity's value in this run: a path into summary.json, or
+// history.<column>.min|max|last of history.csv (the column's own dots kept).
+std::optional<double> value_of(const nlohmann::json& summary, const History& history,
+                               const std::string& quantity) {
+  if (quantity.rfind("history.", 0) == 0) {
+    const auto dot = quantity.rfind('.');
+    const std::string column = quantity.substr(8, dot - 8), statistic = quantity.substr(dot + 1);
+    if (dot <= 8 || !history.values.count(column) || history[column].empty())
+      return std::nullopt;
+    const auto& v = history[column];
+    if (statistic == "min")
+      return *std::min_element(v.begin(), v.end());
+    if (statistic == "max")
+      return *std::max_element(v.begin(), v.end());
+    if (statistic == "last")
+      return v.back();
+    return std::nullopt;
+  }
+  const nlohmann::json* node = at_path(summary, quantity);
+  return node ? std::optional<double>(node->get<double>()) : std::nullopt;
+}
+
+struct Page {
+  std::ostringstream html;
+  std::vector<fs::path> images;
+
+  void figure(const fs::path& png, const std::string& caption) {
+    images.push_back(png);
+    html << "<figure><img alt=\"" << escape(caption) << "\" src=\"data:image/png;base64,"
+         << base64(slurp(png)) << "\"><figcaption>" << escape(caption)
+         << "</figcaption></figure>\n";
+  }
+};
+
+// All energy columns of history.csv on one chart, J against µs.
+fs::path energy_chart(const History& h, const fs::path& dir) {
+  LineChart chart(900, 560);
+  chart.set_title("Energy balance");
+  chart.set_x_label("time (\u00b5s)");
+  chart.set_y_label("energy (J)");
+  std::vector<double> t = h["time"];
+  for (double& v : t)
+    v *= 1e6;
+  std::size_t k = 0;
+  for (const auto& c : h.columns)
+    if (c.rfind("energy.", 0) == 0)
+      chart.add_series(c.substr(7), t, h[c],
+                       {c == "energy.total" ? Rgb{0, 0, 0} : LineChart::palette(k++),
+                        c == "energy.total" ? 2.5 : 2.0, c == "energy.external_work"});
+  const fs::path png = dir / "energy.png";
+  chart.write_png(png);
+  return png;
+}
+
+// Every body's centre-of-mass velocity component along `axis` (x, y or z).
+fs::path velocity_chart(const History& h, const std::vector<std::string>& bodies, char axis,
+                        const fs::path& dir) {
+  LineChart chart(900, 560);
+  chart.set_title(std::string("Body centre-of-mass velocity v") + axis);
+  chart.set_x_label("time (\u00b5s)");
+  chart.set_y_label(std::string("v") + axis + " (m/s)");
+  std::vector<double> t = h["time"];
+  for (double& v : t)
+    v *= 1e6;
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    chart.add_series(bodies[b], t, h["body." + bodies[b] + ".v" + axis],
+                     {LineChart::palette(b), 2.0, false});
+  const fs::path png = dir / (std::string("velocity_v") + axis + ".png");
+  chart.write_png(png);
+  return png;
+}
+
+} // namespace
+
+double ReferenceRow::relative_error() const {
+  return reference != 0 ? (value - reference) / reference
+                        : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    unsigned v = 0;
+    for (std::size_t k = 0; k < 3; ++k)
+      v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k)
+      out += k <= n ? digits[(v >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+std::vector<ReferenceRow> read_reference_csv(const fs::path& file) {
+  std::ifstream in(file);
+  SPHFEM_CHECK(in, file.string(), ": cannot open the reference file");
+  std::vector<ReferenceRow> rows;
+  std::string line;
+  int number = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#' || line == "\r")
+      continue;
+    const auto cells = split_csv_line(line);
+    if (!header) {
+      SPHFEM_CHECK(cells.size() >= 2 && cells[0] == "quantity" && cells[1] == "value",
+                   file.string(), ":", number, ": expected the header quantity,value,unit,source");
+      header = true;
+      continue;
+    }
+    ReferenceRow row;
+    row.quantity = cells[0];
+    try {
+      std::size_t used = 0;
+      row.reference = std::stod(cells.at(1), &used);
+      SPHFEM_CHECK(used == cells[1].size(), "");
+    } catch (const std::exception&) {
+      throw Error(file.string() + ":" + std::to_string(number) + ": value '" +
+                  (cells.size() > 1 ? cells[1] : "") + "' is not a number");
+    }
+    row.unit = cells.size() > 2 ? cells[2] : "";
+    row.source = cells.size() > 3 ? cells[3] : "";
+    rows.push_back(row);
+  }
+  SPHFEM_CHECK(header, file.string(), ": empty (expected the header quantity,value,unit,source)");
+  return rows;
+}
+
+Report write_report(const ReportOptions& o) {
+  const fs::path summary_file = o.run / "summary.json";
+  SPHFEM_CHECK(fs::is_regular_file(summary_file), o.run.string(),
+               ": not a finished run (no summary.json; run `sphfem solve` first)");
+  nlohmann::json summary;
+  try {
+    summary = nlohmann::json::parse(slurp(summary_file));
+  } catch (const std::exception& e) {
+    throw Error(summary_file.string() + ": not valid JSON: " + e.what());
+  }
+  const History history = read_history_csv(o.run / "history.csv");
+  fs::path reference_file = o.reference;
+  if (reference_file.empty() && summary.contains("case_file")) {
+    const fs::path candidate =
+        fs::path(summary["case_file"].get<std::string>()).parent_path() / "reference.csv";
+    if (fs::is_regular_file(candidate))
+      reference_file = candidate;
+  }
+  Report report;
+  if (!reference_file.empty())
+    report.references = read_reference_csv(reference_file);
+
+  const fs::path dir = o.out_dir.empty() ? o.run / "report" : o.out_dir;
+  std::error_code failed;
+  fs::create_directories(dir, failed);
+  SPHFEM_CHECK(!failed, dir.string(), ": cannot create the folder: ", failed.message());
+
+  std::vector<std::string> bodies;
+  for (const auto& [name, body] : summary["bodies"].items())
+    bodies.push_back(name);
+  const std::string name = summary.value("case", std::string("run"));
+  Page page;
+  auto& h = page.html;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>sphfem report: "
+    << escape(name)
+    << "</title>\n<style>body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}"
+       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
+       "8px;text-align:right}th{background:#eee}td:first-child,th:first-child{text-align:left}"
+       "figure{margin:1em 0}img{max-width:100%}figcaption{color:#555;font-size:90%}"
+       ".bad{color:#b00}</style></head><body>\n";
+  h << "<h1>sphfem report: " << escape(name) << "</h1>\n";
+
+  h << "<h2>Run</h2>\n<table><tr><th>quantity</th><th>value</th></tr>\n";
+  auto row = [&](const std::string& what, const std::string& value) {
+    h << "<tr><td>" << escape(what) << "</td><td>" << escape(value) << "</td></tr>\n";
+  };
+  if (summary.contains("case_file"))
+    row("case file", summary["case_file"].get<std::string>());
+  row("simulated time (s)", format("%.6g", summary.value("time", 0.0)));
+  row("steps", std::to_string(summary.value("steps", 0LL)));
+  for (const char* count : {"particles", "nodes", "elements"})
+    row(std::string(count), std::to_string(summary["counts"].value(count, 0LL)));
+  row("wall time (s)", format("%.3f", summary.value("wall_s", 0.0)));
+  row("threads", std::to_string(summary.value("threads", 0)));
+  row("entity-steps/s", format("%.4g", summary.value("entity_steps_per_s", 0.0)));
+  row("energy balance error", format("%.3g", summary["energy"].value("balance_error", 0.0)));
+  row("momentum drift", format("%.3g", summary.value("momentum_drift", 0.0)));
+  h << "</table>\n";
+
+  h << "<h2>Energy</h2>\n";
+  page.figure(energy_chart(history, dir),
+              "Energies (J): kinetic, internal, hourglass, contact, eroded, external work (dashed) "
+              "and their total; the balance error is |total − W_ext − E_0| / scale.");
+
+  h << "<h2>Bodies</h2>\n<table><tr><th>body</th><th>mass (kg)</th><th>vx (m/s)</th><th>vy "
+       "(m/s)</th><th>vz (m/s)</th><th>killed particles</th><th>eroded elements</th></tr>\n";
+  for (const auto& b : bodies) {
+    const auto& s = summary["bodies"][b];
+    h << "<tr><td>" << escape(b) << "</td><td>" << format("%.6g", s.value("mass", 0.0)) << "</td>";
+    for (int k = 0; k < 3; ++k)
+      h << "<td>" << format("%.4g", s["com_velocity"][k].get<double>()) << "</td>";
+    h << "<td>" << s.value("killed_particles", 0) << "</td><td>" << s.value("eroded_elements", 0)
+      << "</td></tr>\n";
+  }
+  h << "</table>\n<p>Residual velocities: the centre-of-mass velocities at the end of the "
+       "run.</p>\n";
+  for (char axis : {'x', 'y', 'z'}) {
+    bool moving = false;
+    for (const auto& b : bodies)
+      for (double v : history["body." + b + ".v" + axis])
+        moving = moving || std::abs(v) > 1e-9;
+    if (moving)
+      page.figure(velocity_chart(history, bodies, axis, dir),
+                  std::string("Centre-of-mass velocity v") + axis + " of each body (m/s).");
+  }
+
+  h << "<h2>Section</h2>\n";
+  try {
+    const Model model = read_model_h5(o.run / "model.h5");
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (const auto* points : {&model.x_n, &model.x_p})
+      for (const Vec3& x : *points) {
+        low = low.cwiseMin(x);
+        high = high.cwiseMax(x);
+      }
+    SectionOptions section;
+    section.run = o.run;
+    section.point = 0.5 * (low + high);
+    section.normal = Vec3::UnitY();
+    section.out_dir = dir;
+    const SectionResult cut = write_section(section);
+    page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) +
+                             " µs through the model's centre, normal y (section.csv).");
+    for (const auto& [body, deflection] : cut.max_deflection)
+      h << "<p>Largest permanent deflection of " << escape(body) << ": "
+        << format("%.4g", deflection * 1e3) << " mm.</p>\n";
+  } catch (const std::exception& e) {
+    report.skipped.push_back(std::string("section: ") + e.what());
+    h << "<p>No section: " << escape(e.what()) << "</p>\n";
+  }
+
+  h << "<h2>Fragments and plug</h2>\n";
+  try {
+    PlugOptions plug;
+    plug.run = o.run;
+    plug.out_dir = dir;
+    const PlugResult fragments = write_plug(plug);
+    page.figure(fragments.png, "Fragments of the target at t = " +
+                                   format("%.4g", fragments.time * 1e6) + " µs (plug.json).");
+    h << "<table><tr><th>fragment</th><th>mass (kg)</th><th>velocity along the impact axis "
+         "(m/s)</th><th>diameter (mm)</th><th>thickness (mm)</th></tr>\n";
+    for (std::size_t k = 0; k < fragments.fragments.size() && k < 10; ++k) {
+      const Fragment& f = fragments.fragments[k];
+      const int index = static_cast<int>(k);
+      h << "<tr><td>" << k << (index == fragments.plug ? " (plug)" : "")
+        << (index == fragments.main ? " (target)" : "") << "</td><td>" << format("%.4g", f.mass)
+        << "</td><td>" << format("%.4g", f.velocity.dot(fragments.impact_axis)) << "</td><td>"
+        << format("%.4g", f.diameter * 1e3) << "</td><td>" << format("%.4g", f.thickness * 1e3)
+        << "</td></tr>\n";
+    }
+    h << "</table>\n<p>Debris (killed particles, eroded elements): "
+      << format("%.4g", fragments.debris_mass) << " kg.</p>\n";
+  } catch (const std::exception& e) {
+    report.skipped.push_back(std::string("plug: ") + e.what());
+    h << "<p>No fragments: " << escape(e.what()) << "</p>\n";
+  }
+
+  h << "<h2>Against the reference</h2>\n";
+  if (report.references.empty()) {
+    h << "<p>No reference values (put a reference.csv with columns quantity,value,unit,source "
+         "beside the case file).</p>\n";
+  } else {
+    h << "<p>From " << escape(reference_file.string())
+      << ".</p>\n<table><tr><th>quantity</th><th>reference</th><th>this run</th><th>unit</th>"
+         "<th>relative error</th><th>source</th></tr>\n";
+    for (ReferenceRow& r : report.references) {
+      const std::optional<double> value = value_of(summary, history, r.quantity);
+      r.found = value.has_value();
+      r.value = value.value_or(std::numeric_limits<double>::quiet_NaN());
+      h << "<tr><td>" << escape(r.quantity) << "</td><td>" << format("%.6g", r.reference)
+        << "</td><td>" << (r.found ? format("%.6g", r.value) : "not in this run") << "</td><td>"
+        << escape(r.unit) << "</td><td"
+        << (r.found && std::abs(r.relative_error()) > 0.05 ? " class=\"bad\"" : "") << ">"
+        << (r.found ? format("%+.2f%%", 100 * r.relative_error()) : "") << "</td><td>"
+        << escape(r.source) << "</td></tr>\n";
+    }
+    h << "</table>\n";
+  }
+  h << "</body></html>\n";
+  report.html = dir / "report.html";
+  report.images = page.images;
+  write_text_atomically(report.html, h.str());
+  return report;
+}
+
+} // namespace sphfem::post

@@ -1,0 +1,491 @@
+#include "post/section.hpp"
+
+#include "post/line_chart.hpp"
+#include "post/particle_outline.hpp"
+#include "post/post.hpp"
+#include "solver/core/error.hpp"
+#include "solver/io/model_h5.hpp"
+
+#include <nlohmann/json.hpp>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCutter.h>
+#include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkNew.h>
+#include <vtkPlane.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <set>
+
+namespace sphfem::post {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The plane's frame: unit normal n, in-plane axes û = ŵ × n and ŵ (the deflection axis).
+struct Plane {
+  Vec3 point, n, u, w;
+  Vec3 at(double u_m, double w_m) const { return point + u_m * u + w_m * w; }
+  double distance(const Vec3& x) const { return (x - point).dot(n); }
+};
+
+std::string vec_text(const Vec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "%g,%g,%g", v.x(), v.y(), v.z());
+  return buffer;
+}
+
+Plane make_plane(const SectionOptions& o) {
+  const std::string plane = "--plane " + vec_text(o.point) + "," + vec_text(o.normal);
+  SPHFEM_CHECK(o.point.allFinite() && o.normal.allFinite(), plane, ": expected finite numbers");
+  SPHFEM_CHECK(o.normal.norm() > 0, plane, ": the normal NX,NY,NZ is zero");
+  Plane p{o.point, o.normal.normalized(), Vec3::Zero(), Vec3::Zero()};
+  if (o.axis) {
+    const Vec3& a = *o.axis;
+    SPHFEM_CHECK(a.allFinite() && a.norm() > 0, "--axis ", vec_text(a),
+                 ": expected a non-zero direction");
+    p.w = a - a.dot(p.n) * p.n;
+    SPHFEM_CHECK(p.w.norm() > 1e-6 * a.norm(), "--axis ", vec_text(a),
+                 " is along the plane's normal: expected a direction in the plane");
+  } else { // the in-plane direction closest to z; for a plane normal to z, the one closest to y
+    p.w = Vec3::UnitZ() - p.n.z() * p.n;
+    if (p.w.norm() < 1e-6)
+      p.w = Vec3::UnitY() - p.n.y() * p.n;
+  }
+  p.w.normalize();
+  p.u = p.w.cross(p.n);
+  return p;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& file) {
+  SPHFEM_CHECK(fs::is_regular_file(file), file.string(), ": no such frame file");
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  SPHFEM_CHECK(reader->GetErrorCode() == 0 && reader->GetOutput(), file.string(),
+               ": cannot read the frame");
+  vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
+  return grid;
+}
+
+vtkDataArray* array(vtkDataSetAttributes* data, const char* name, const fs::path& file,
+                    int components) {
+  vtkDataArray* a = data->GetArray(name);
+  SPHFEM_CHECK(a && a->GetNumberOfComponents() == components, file.string(), ": no ", name,
+               " array with ", components, " component(s)");
+  return a;
+}
+
+struct Frame {
+  double time;
+  vtkSmartPointer<vtkUnstructuredGrid> fe, sph; // null if the run has none
+  fs::path fe_file, sph_file;
+};
+
+// The frame nearest to `time` (the last without one): its FE and particle files.
+Frame read_frame(const fs::path& run, std::optional<double> time) {
+  const fs::path pvd = run / "results.pvd";
+  SPHFEM_CHECK(fs::is_regular_file(pvd), pvd.string(),
+               ": no such file (not a run folder; run `sphfem solve` first)");
+  const auto entries = read_pvd(pvd);
+  SPHFEM_CHECK(!entries.empty(), pvd.string(), ": lists no frames");
+  SPHFEM_CHECK(!time || std::isfinite(*time), "--time ", *time, ": expected seconds");
+  double best = entries.back().first;
+  if (time)
+    for (const auto& e : entries)
+      if (std::abs(e.first - *time) < std::abs(best - *time))
+        best = e.first;
+  Frame f{best, nullptr, nullptr, {}, {}};
+  for (const auto& [t, name] : entries)
+    if (t == best) {
+      const fs::path file = pvd.parent_path() / name;
+      auto grid = read_vtu(file);
+      const bool hexahedra = grid->GetNumberOfCells() > 0 && grid->GetCellType(0) == VTK_HEXAHEDRON;
+      (hexahedra ? f.fe : f.sph) = grid;
+      (hexahedra ? f.fe_file : f.sph_file) = file;
+    }
+  return f;
+}
+
+struct Bodies {
+  std::vector<std::string> names;
+  std::vector<double> spacing; // m, 0 if unknown (FE bodies)
+};
+
+// From OUT/model.h5; without it, bodies named body0, body1, … up to the largest body id.
+Bodies read_bodies(const fs::path& run, const Frame& frame) {
+  const fs::path file = run / "model.h5";
+  if (fs::exists(file)) {
+    Model m = read_model_h5(file);
+    m.spacing_b.resize(m.body_names.size(), 0.0);
+    return {m.body_names, m.spacing_b};
+  }
+  auto largest_id = [](vtkDataArray* ids) { return ids ? int(ids->GetRange()[1]) : -1; };
+  int largest = -1;
+  if (frame.fe)
+    largest = std::max(largest, largest_id(frame.fe->GetCellData()->GetArray("body_id")));
+  if (frame.sph)
+    largest = std::max(largest, largest_id(frame.sph->GetPointData()->GetArray("body_id")));
+  Bodies b;
+  for (int i = 0; i <= largest; ++i)
+    b.names.push_back("body" + std::to_string(i));
+  b.spacing.assign(b.names.size(), 0.0);
+  return b;
+}
+
+std::string list(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names)
+    s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+struct Polyline {
+  std::string part; // fe or sph
+  std::vector<Vec3> x;
+};
+
+struct BodySection {
+  std::vector<Polyline> polylines;
+  std::vector<Vec3> killed;                      // killed particles near the plane
+  std::vector<std::array<double, 3>> profile;    // (|u| m, displacement·ŵ m, weight)
+  double bin = 0;                                // bin width of the profile, m
+  std::vector<std::array<double, 2>> deflection; // (radius, mean deflection) per bin, m
+  double max_deflection = 0;                     // m
+};
+
+// FE bodies: outline from the cut boundary faces, profile from the cut hexahedron edges.
+void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& selected,
+            std::map<int, BodySection>& sections) {
+  vtkUnstructuredGrid* grid = frame.fe;
+  const fs::path& file = frame.fe_file;
+  vtkDataArray* u = array(grid->GetPointData(), "displacement", file, 3);
+  vtkDataArray* body = array(grid->GetCellData(), "body_id", file, 1);
+  vtkDataArray* ghost = grid->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
+  const vtkIdType n_points = grid->GetNumberOfPoints();
+  std::vector<Vec3> x(n_points), disp(n_points);
+  std::vector<double> d(n_points);
+  for (vtkIdType i = 0; i < n_points; ++i) {
+    grid->GetPoint(i, x[i].data());
+    u->GetTuple(i, disp[i].data());
+    d[i] = plane.distance(x[i]);
+  }
+  static constexpr int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                      {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  static constexpr int edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                       {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  // Per body: each face of a live hexahedron by its sorted node ids → (uses, the face).
+  std::map<int, std::map<std::array<vtkIdType, 4>, std::pair<int, std::array<vtkIdType, 4>>>>
+      boundary;
+  std::map<int, std::set<std::pair<vtkIdType, vtkIdType>>> cut_edges;
+  std::map<int, std::pair<double, int>> edge_length; // Σ longest edge of cut cells, count
+  for (vtkIdType k = 0; k < grid->GetNumberOfCells(); ++k) {
+    if (grid->GetCellType(k) != VTK_HEXAHEDRON ||
+        (ghost && (int(ghost->GetComponent(k, 0)) & vtkDataSetAttributes::HIDDENCELL)))
+      continue;
+    const int b = int(body->GetComponent(k, 0));
+    if (b < 0 || b >= int(selected.size()) || !selected[b])
+      continue;
+    vtkIdType n;
+    const vtkIdType* ids;
+    grid->GetCellPoints(k, n, ids);
+    const auto [lo, hi] =
+        std::minmax_element(ids, ids + n, [&](auto a, auto c) { return d[a] < d[c]; });
+    if (d[*lo] > 0 || d[*hi] < 0)
+      continue; // a cut face belongs only to cells the plane reaches
+    for (const auto& f : faces) {
+      std::array<vtkIdType, 4> face{ids[f[0]], ids[f[1]], ids[f[2]], ids[f[3]]}, key = face;
+      std::sort(key.begin(), key.end());
+      auto& slot = boundary[b][key];
+      slot = {slot.first + 1, face};
+    }
+    bool cut = false;
+    for (const auto& e : edges) {
+      vtkIdType a = ids[e[0]], c = ids[e[1]];
+      if ((d[a] < 0) == (d[c] < 0))
+        continue;
+      cut = true;
+      if (a > c)
+        std::swap(a, c);
+      if (!cut_edges[b].insert({a, c}).second)
+        continue;
+      const double t = d[a] / (d[a] - d[c]);
+      const Vec3 xi = x[a] + t * (x[c] - x[a]), ui = disp[a] + t * (disp[c] - disp[a]);
+      sections[b].profile.push_back(
+          {std::abs((xi - plane.point).dot(plane.u)), ui.dot(plane.w), 1.0});
+    }
+    if (cut) { // the element size: its longest edge (a plate's in-plane size), reference
+      double longest = 0;
+      for (const auto& e : edges) {
+        const auto a = ids[e[0]], c = ids[e[1]];
+        longest = std::max(longest, ((x[a] - disp[a]) - (x[c] - disp[c])).norm());
+      }
+      auto& [sum, count] = edge_length[b];
+      sum += longest;
+      ++count;
+    }
+  }
+  for (const auto& [b, length] : edge_length)
+    sections[b].bin = length.first / length.second;
+
+  vtkNew<vtkPlane> cut_plane;
+  cut_plane->SetOrigin(plane.point.data());
+  cut_plane->SetNormal(plane.n.data());
+  for (const auto& [b, faces_b] : boundary) {
+    vtkNew<vtkCellArray> quads;
+    for (const auto& [key, slot] : faces_b)
+      if (slot.first == 1) // used by one live hexahedron: on the body's surface
+        quads->InsertNextCell(4, slot.second.data());
+    vtkNew<vtkPolyData> surface;
+    surface->SetPoints(grid->GetPoints());
+    surface->SetPolys(quads);
+    vtkNew<vtkCutter> cutter;
+    cutter->SetInputData(surface);
+    cutter->SetCutFunction(cut_plane);
+    cutter->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);
+    cutter->Update();
+    vtkPolyData* lines = cutter->GetOutput();
+    for (const auto& ids : chain_segments(lines)) {
+      Polyline line{"fe", {}};
+      for (long long id : ids) {
+        Vec3 p;
+        lines->GetPoint(id, p.data());
+        line.x.push_back(p);
+      }
+      sections[b].polylines.push_back(std::move(line));
+    }
+  }
+}
+
+// SPH bodies: outline of the particles near the plane, killed ones and the profile in the slab.
+void cut_sph(const Frame& frame, const Plane& plane, const Bodies& bodies,
+             const std::vector<bool>& selected, std::map<int, BodySection>& sections) {
+  vtkUnstructuredGrid* grid = frame.sph;
+  const fs::path& file = frame.sph_file;
+  vtkPointData* pd = grid->GetPointData();
+  vtkDataArray* u = array(pd, "displacement", file, 3);
+  vtkDataArray* h = array(pd, "h", file, 1);
+  vtkDataArray* mass = array(pd, "mass", file, 1);
+  vtkDataArray* density = array(pd, "density", file, 1);
+  vtkDataArray* body = array(pd, "body_id", file, 1);
+  vtkDataArray* killed = pd->GetArray("killed");
+  struct Cloud {
+    std::vector<Eigen::Vector2d> x;
+    std::vector<double> area, spacing;
+  };
+  std::map<int, Cloud> clouds;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    const int b = int(body->GetComponent(i, 0));
+    if (b < 0 || b >= int(selected.size()) || !selected[b])
+      continue;
+    Vec3 x, disp;
+    grid->GetPoint(i, x.data());
+    const double s = bodies.spacing[b] > 0 ? bodies.spacing[b] : h->GetComponent(i, 0) / 1.2;
+    const double d = std::abs(plane.distance(x));
+    if (!(d < s))
+      continue;
+    const double tent = 1 - d / s;
+    if (killed && killed->GetComponent(i, 0) != 0) {
+      if (tent > 0.25) // the nearest layer, or the two a plane between layers halves
+        sections[b].killed.push_back(x);
+      continue;
+    }
+    const Vec3 r = x - plane.point;
+    Cloud& c = clouds[b];
+    c.x.emplace_back(r.dot(plane.u), r.dot(plane.w));
+    c.area.push_back(tent * mass->GetComponent(i, 0) / density->GetComponent(i, 0) / s);
+    c.spacing.push_back(s);
+    u->GetTuple(i, disp.data());
+    sections[b].profile.push_back({std::abs(c.x.back().x()), disp.dot(plane.w), tent});
+  }
+  for (auto& [b, c] : clouds) {
+    double spacing = 0;
+    for (double s : c.spacing)
+      spacing += s / c.spacing.size();
+    BodySection& section = sections[b];
+    if (section.bin == 0)
+      section.bin = spacing;
+    for (const auto& line : particle_outline(c.x, c.area, spacing)) {
+      Polyline p{"sph", {}};
+      for (const auto& q : line)
+        p.x.push_back(plane.at(q.x(), q.y()));
+      section.polylines.push_back(std::move(p));
+    }
+  }
+}
+
+// Mean deflection in bins of |u| one `bin` wide whose edges lie halfway between the rows of
+// points (at the circular mean phase of |u|/bin, plus 1/2), so that rows of nodes or particles
+// fall mid-bin rather than on edges; averages are weighted, a bin's radius is the mean |u| in it.
+void bin_profile(BodySection& s) {
+  if (s.profile.empty() || !(s.bin > 0))
+    return;
+  double c = 0, sn = 0;
+  for (const auto& point : s.profile) { // (|u|, deflection, weight)
+    c += point[2] * std::cos(2 * std::numbers::pi * point[0] / s.bin);
+    sn += point[2] * std::sin(2 * std::numbers::pi * point[0] / s.bin);
+  }
+  const double phase = std::atan2(sn, c) / (2 * std::numbers::pi);
+  std::map<long long, std::array<double, 3>> bins; // Σ weight·|u|, Σ weight·deflection, Σ weight
+  for (const auto& [r, w, weight] : s.profile) {
+    auto& slot = bins[std::llround(r / s.bin - phase)];
+    slot[0] += weight * r;
+    slot[1] += weight * w;
+    slot[2] += weight;
+  }
+  for (const auto& [k, slot] : bins) {
+    s.deflection.push_back({slot[0] / slot[2], slot[1] / slot[2]});
+    s.max_deflection = std::max(s.max_deflection, std::abs(slot[1] / slot[2]));
+  }
+}
+
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
+std::ofstream open_file(const fs::path& file) {
+  std::ofstream out(file);
+  SPHFEM_CHECK(out, file.string(), ": cannot write");
+  return out;
+}
+
+void finish(std::ofstream& out, const fs::path& file) {
+  SPHFEM_CHECK(out.flush(), file.string(), ": cannot write");
+}
+
+// "Section y = 25 mm" for a plane normal to a coordinate axis, else "Section".
+std::string plane_name(const Plane& plane) {
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(plane.n[i]) > 1 - 1e-12) {
+      char buffer[64];
+      std::snprintf(buffer, sizeof buffer, "Section %c = %g mm", "xyz"[i], plane.point[i] * 1e3);
+      return buffer;
+    }
+  return "Section";
+}
+
+} // namespace
+
+SectionResult write_section(const SectionOptions& o) {
+  // Everything is read and checked before anything is written.
+  const Plane plane = make_plane(o);
+  (void)LineChart(o.width, o.height); // checks the size
+  const Frame frame = read_frame(o.run, o.time);
+  const Bodies bodies = read_bodies(o.run, frame);
+  std::vector<bool> selected(bodies.names.size(), o.bodies.empty());
+  for (const auto& name : o.bodies) {
+    const auto it = std::find(bodies.names.begin(), bodies.names.end(), name);
+    SPHFEM_CHECK(it != bodies.names.end(), "--bodies ", name, ": no such body in ",
+                 (o.run / "model.h5").string(), " (bodies: ", list(bodies.names), ")");
+    selected[it - bodies.names.begin()] = true;
+  }
+  std::map<int, BodySection> sections;
+  if (frame.fe)
+    cut_fe(frame, plane, selected, sections);
+  if (frame.sph)
+    cut_sph(frame, plane, bodies, selected, sections);
+  std::erase_if(sections, [](const auto& s) { return s.second.polylines.empty(); });
+  char when[64];
+  std::snprintf(when, sizeof when, "%.4g", frame.time * 1e6);
+  SPHFEM_CHECK(!sections.empty(), "--plane ", vec_text(o.point), ",", vec_text(o.normal),
+               ": the plane cuts no ", o.bodies.empty() ? "body" : "chosen body",
+               " in the frame at t = ", when, " us of ", (o.run / "results.pvd").string());
+  for (auto& [b, s] : sections)
+    bin_profile(s);
+
+  const fs::path dir = o.out_dir.empty() ? o.run / "post" : o.out_dir;
+  std::error_code failed;
+  fs::create_directories(dir, failed);
+  SPHFEM_CHECK(!failed, dir.string(), ": cannot create the folder: ", failed.message());
+  SectionResult result{frame.time,           dir / "section.csv",
+                       dir / "section.png",  dir / "deflection.csv",
+                       dir / "section.json", {}};
+
+  std::ofstream csv = open_file(result.csv);
+  csv << "# section at t = " << number(frame.time) << " s through point " << vec_text(plane.point)
+      << " m with unit normal n = " << vec_text(plane.n) << "; w along " << vec_text(plane.w)
+      << " (deflection axis in the plane), u = w x n = " << vec_text(plane.u)
+      << "; u and w in m from the point; killed particles: part killed, polyline -1\n"
+      << "body,part,polyline,u_m,w_m,x_m,y_m,z_m\n";
+  auto row = [&](const std::string& name, const std::string& part, int line, const Vec3& x) {
+    const Vec3 r = x - plane.point;
+    csv << name << "," << part << "," << line << "," << number(r.dot(plane.u)) << ","
+        << number(r.dot(plane.w)) << "," << number(x.x()) << "," << number(x.y()) << ","
+        << number(x.z()) << "\n";
+  };
+  LineChart chart(o.width, o.height);
+  chart.set_title(plane_name(plane) + " at t = " + std::string(when) + " \u00b5s");
+  chart.set_x_label("u (mm)");
+  chart.set_y_label("w (mm)");
+  chart.set_equal_aspect(true);
+  nlohmann::json json_bodies = nlohmann::json::object();
+  std::size_t colour = 0;
+  for (const auto& [b, s] : sections) {
+    const std::string& name = bodies.names[b];
+    std::vector<double> u_mm, w_mm;
+    for (std::size_t k = 0; k < s.polylines.size(); ++k) {
+      for (const Vec3& x : s.polylines[k].x) {
+        row(name, s.polylines[k].part, int(k), x);
+        u_mm.push_back(1e3 * (x - plane.point).dot(plane.u));
+        w_mm.push_back(1e3 * (x - plane.point).dot(plane.w));
+      }
+      u_mm.push_back(std::numeric_limits<double>::quiet_NaN()); // breaks the line
+      w_mm.push_back(std::numeric_limits<double>::quiet_NaN());
+    }
+    const Rgb rgb = LineChart::palette(colour++);
+    chart.add_series(name, u_mm, w_mm, {rgb, 2.0, false});
+    if (!s.killed.empty()) {
+      std::vector<double> ku, kw;
+      for (const Vec3& x : s.killed) {
+        row(name, "killed", -1, x);
+        ku.push_back(1e3 * (x - plane.point).dot(plane.u));
+        kw.push_back(1e3 * (x - plane.point).dot(plane.w));
+      }
+      LineStyle dots{rgb, 0.0, false};
+      dots.marker = 2.5;
+      chart.add_series(name + " killed", ku, kw, dots);
+    }
+    result.max_deflection[name] = s.max_deflection;
+    json_bodies[name] = {{"max_deflection_m", s.max_deflection}, {"polylines", s.polylines.size()}};
+  }
+  finish(csv, result.csv);
+  chart.write_png(result.png);
+
+  std::ofstream deflection = open_file(result.deflection_csv);
+  deflection << "# displacement along w = " << vec_text(plane.w)
+             << " averaged in bins of |u| (distance in m from the plane's point along u = "
+             << vec_text(plane.u) << ")\nbody,radius_m,deflection_m\n";
+  for (const auto& [b, s] : sections)
+    for (const auto& [r, w] : s.deflection)
+      deflection << bodies.names[b] << "," << number(r) << "," << number(w) << "\n";
+  finish(deflection, result.deflection_csv);
+
+  auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
+  const nlohmann::json json = {{"time_s", frame.time},
+                               {"plane", {{"point_m", vec(plane.point)}, {"normal", vec(plane.n)}}},
+                               {"axis", vec(plane.w)},
+                               {"u_axis", vec(plane.u)},
+                               {"bodies", json_bodies}};
+  std::ofstream json_out = open_file(result.json);
+  json_out << json.dump(2) << "\n";
+  finish(json_out, result.json);
+  return result;
+}
+
+} // namespace sphfem::post

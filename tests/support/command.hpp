@@ -1,0 +1,57 @@
+// Test helpers for running the `sphfem` command as users do: a scratch folder, a file's whole
+// text, and one command with its exit code, stdout and stderr (no X display, as on a server or
+// in CI).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace sphfem::test {
+
+inline std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A fresh folder per test and process (test runs from several build folders may overlap),
+// removed when the test passes: TMP/sphfem_<name>_<pid>.
+struct Scratch {
+  std::filesystem::path dir;
+  explicit Scratch(const std::string& name)
+      : dir(std::filesystem::temp_directory_path() /
+            ("sphfem_" + name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  ~Scratch() {
+    if (!::testing::Test::HasFailure())
+      std::filesystem::remove_all(dir);
+  }
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+};
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+// Runs `sphfem ARGS` with stdout and stderr captured in files of `dir`.
+inline Result run_sphfem(const std::string& args, const std::filesystem::path& dir) {
+  const std::string cmd = "env -u DISPLAY " + std::string(SPHFEM_BINARY) + " " + args + " >" +
+                          (dir / "stdout.txt").string() + " 2>" + (dir / "stderr.txt").string();
+  const int status = std::system(cmd.c_str());
+  return {WEXITSTATUS(status), slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
+}
+
+} // namespace sphfem::test
