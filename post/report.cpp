@@ -166,6 +166,47 @@ fs::path velocity_chart(const History& h, const std::vector<std::string>& bodies
   return png;
 }
 
+// The perforation results DESIGN.md puts under summary.json's "results": perforated (a plug
+// separated), the residual velocities of the projectile (the other body with the largest
+// initial momentum along the impact axis) and of the plug along that axis, 0 without
+// perforation, and the plug's mass and size.
+nlohmann::json perforation_results(const nlohmann::json& summary, const History& history,
+                                   const PlugResult& r, const std::string& target) {
+  const Vec3& axis = r.impact_axis;
+  std::string projectile;
+  double largest = 0;
+  for (const auto& [name, body] : summary["bodies"].items()) {
+    const std::string v = "body." + name + ".v";
+    if (name == target || !history.values.count(v + "z") || history[v + "z"].empty())
+      continue;
+    const Vec3 v0(history[v + "x"][0], history[v + "y"][0], history[v + "z"][0]);
+    const double momentum = body.value("mass", 0.0) * v0.dot(axis);
+    if (momentum > largest) {
+      largest = momentum;
+      projectile = name;
+    }
+  }
+  const bool perforated = r.plug >= 0;
+  nlohmann::json out;
+  out["perforated"] = perforated;
+  out["target"] = target;
+  out["projectile"] = projectile.empty() ? nlohmann::json() : nlohmann::json(projectile);
+  out["impact_axis"] = {axis.x(), axis.y(), axis.z()};
+  double projectile_velocity = 0;
+  if (perforated && !projectile.empty()) {
+    const auto& v = summary["bodies"][projectile]["com_velocity"];
+    projectile_velocity =
+        Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()).dot(axis);
+  }
+  const Fragment plug = perforated ? r.fragments[r.plug] : Fragment{};
+  out["residual_velocity"] = {{"projectile", projectile_velocity},
+                              {"plug", perforated ? plug.velocity.dot(axis) : 0.0}};
+  out["plug"] = {{"mass", plug.mass}, {"diameter", plug.diameter}, {"thickness", plug.thickness}};
+  out["time"] = r.time;
+  out["units"] = {{"velocity", "m/s"}, {"mass", "kg"}, {"length", "m"}, {"time", "s"}};
+  return out;
+}
+
 } // namespace
 
 double ReferenceRow::relative_error() const {
@@ -341,6 +382,10 @@ Report write_report(const ReportOptions& o) {
     plug.run = o.run;
     plug.out_dir = dir;
     const PlugResult fragments = write_plug(plug);
+    const auto plug_json = nlohmann::json::parse(slurp(fragments.json));
+    summary["results"] =
+        perforation_results(summary, history, fragments, plug_json.value("body", std::string()));
+    write_text_atomically(summary_file, summary.dump(2) + "\n");
     page.figure(fragments.png, "Fragments of the target at t = " +
                                    format("%.4g", fragments.time * 1e6) + " µs (plug.json).");
     h << "<table><tr><th>fragment</th><th>mass (kg)</th><th>velocity along the impact axis "

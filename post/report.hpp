@@ -3,6 +3,10 @@
 // case, the run's cost, the energy balance chart, the bodies' velocity histories, their
 // residual velocities, a deformed section, the fragments and plug, and a table against the
 // case's reference values. The charts are also left beside it as PNG and CSV.
+// With a body of particles the report also writes summary.json's "results" (DESIGN.md):
+// perforated (a plug, post/plug.hpp, has separated), residual_velocity.projectile and .plug
+// (m/s along the impact axis, 0 without perforation; the projectile is the other body with
+// the largest initial momentum along that axis), plug.mass (kg) and its size (m).
 // A reference file is `reference.csv` in the case's folder (the run records its case file in
 // summary.json), with columns quantity,value,unit,source: quantity is a path into
 // summary.json (`bodies.bar_a.com_velocity.2`, `energy.balance_error`, `results.plug.mass`)

@@ -31,9 +31,21 @@ std::pair<Vec3, Vec3> face_plane(const BodySpec& body, const std::string& face) 
 
 MirrorParticles::MirrorParticles(const Case& c) {
   const std::vector<int> group = c.body_groups();
+  // An FE box in a contact pair carries background particles on its surface: its symmetry
+  // planes mirror them too, so that the other body of the pair meets the whole surface at the
+  // plane (else the contact near a quarter model's planes is one-sided).
+  const auto in_contact = [&c](const std::string& name) {
+    for (const ContactSpec& pair : c.contacts)
+      if (pair.bodies[0] == name || pair.bodies[1] == name)
+        return true;
+    return false;
+  };
   for (const auto& bc : c.boundary_conditions) {
     const int body = c.body_index(bc.body);
-    if (bc.type != BoundaryType::Symmetry || c.bodies[body].method != Method::Sph)
+    const BodySpec& spec = c.bodies[body];
+    const bool mirrored = spec.method == Method::Sph ||
+                          (in_contact(spec.name) && spec.geometry.kind == GeometrySpec::Kind::Box);
+    if (bc.type != BoundaryType::Symmetry || !mirrored)
       continue;
     const auto [point, normal] = face_plane(c.bodies[body], bc.face);
     planes_.push_back({group[body], point, normal});

@@ -1,4 +1,5 @@
-// Symmetry planes for SPH bodies (a `symmetry` condition on a box face of a particle body):
+// Symmetry planes for SPH bodies (a `symmetry` condition on a box face of a particle body, or of
+// an FE box in a contact pair, whose background particles the other body meets):
 // the real (and background) particles within reach of a plane get mirror images across it — and
 // across both planes of a corner — appended to the particle arrays, refreshed every step with the
 // mirrored position, velocity (R v), stress (R σ Rᵀ) and gradient correction (R C Rᵀ), R = I − 2 n
