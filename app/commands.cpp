@@ -2,6 +2,7 @@
 
 #include "app/material_command.hpp"
 #include "app/post_commands.hpp"
+#include "app/sweep_command.hpp"
 #include "mesher/mesher.hpp"
 #include "solver/core/error.hpp"
 #include "solver/io/case_reader.hpp"
@@ -112,6 +113,9 @@ int run_command_line(int argc, char** argv) {
   MaterialCommandOptions material_o;
   auto* material_cmd = add_material_command(app, material_o);
 
+  SweepCommandOptions sweep_o;
+  auto* sweep_cmd = add_sweep_command(app, sweep_o);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -126,6 +130,10 @@ int run_command_line(int argc, char** argv) {
     }
     if (material_cmd->parsed()) {
       run_material_command(material_o);
+      return 0;
+    }
+    if (sweep_cmd->parsed()) {
+      run_sweep_command(sweep_o);
       return 0;
     }
     if (post_commands.parsed()) {

@@ -1,4 +1,4 @@
-// The `sphfem` command line: git-style subcommands (mesh, solve, run, post, material),
+// The `sphfem` command line: git-style subcommands (mesh, solve, run, post, material, sweep),
 // each with --help. Parses arguments, reads and validates the case before anything is written,
 // and turns any sphfem::Error into one line on stderr and a non-zero exit code.
 #pragma once

@@ -5,6 +5,7 @@
 #include "post/plug.hpp"
 #include "post/post.hpp"
 #include "post/section.hpp"
+#include "post/text.hpp"
 #include "solver/core/error.hpp"
 #include "solver/io/atomic_file.hpp"
 #include "solver/io/model_h5.hpp"
@@ -24,41 +25,6 @@ namespace sphfem::post {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text)
-    switch (c) {
-    case '<':
-      out += "&lt;";
-      break;
-    case '>':
-      out += "&gt;";
-      break;
-    case '&':
-      out += "&amp;";
-      break;
-    case '"':
-      out += "&quot;";
-      break;
-    default:
-      out += c;
-    }
-  return out;
-}
-
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 
 std::vector<std::string> split_csv_line(const std::string& line) {
   std::vector<std::string> cells;
@@ -122,8 +88,8 @@ struct Page {
 
   void figure(const fs::path& png, const std::string& caption) {
     images.push_back(png);
-    html << "<figure><img alt=\"" << escape(caption) << "\" src=\"data:image/png;base64,"
-         << base64(slurp(png)) << "\"><figcaption>" << escape(caption)
+    html << "<figure><img alt=\"" << escape_html(caption) << "\" src=\"data:image/png;base64,"
+         << base64(slurp(png)) << "\"><figcaption>" << escape_html(caption)
          << "</figcaption></figure>\n";
   }
 };
@@ -299,17 +265,17 @@ Report write_report(const ReportOptions& o) {
   Page page;
   auto& h = page.html;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>sphfem report: "
-    << escape(name)
+    << escape_html(name)
     << "</title>\n<style>body{font-family:sans-serif;max-width:960px;margin:2em auto;color:#222}"
        "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
        "8px;text-align:right}th{background:#eee}td:first-child,th:first-child{text-align:left}"
        "figure{margin:1em 0}img{max-width:100%}figcaption{color:#555;font-size:90%}"
        ".bad{color:#b00}</style></head><body>\n";
-  h << "<h1>sphfem report: " << escape(name) << "</h1>\n";
+  h << "<h1>sphfem report: " << escape_html(name) << "</h1>\n";
 
   h << "<h2>Run</h2>\n<table><tr><th>quantity</th><th>value</th></tr>\n";
   auto row = [&](const std::string& what, const std::string& value) {
-    h << "<tr><td>" << escape(what) << "</td><td>" << escape(value) << "</td></tr>\n";
+    h << "<tr><td>" << escape_html(what) << "</td><td>" << escape_html(value) << "</td></tr>\n";
   };
   if (summary.contains("case_file"))
     row("case file", summary["case_file"].get<std::string>());
@@ -333,7 +299,8 @@ Report write_report(const ReportOptions& o) {
        "(m/s)</th><th>vz (m/s)</th><th>killed particles</th><th>eroded elements</th></tr>\n";
   for (const auto& b : bodies) {
     const auto& s = summary["bodies"][b];
-    h << "<tr><td>" << escape(b) << "</td><td>" << format("%.6g", s.value("mass", 0.0)) << "</td>";
+    h << "<tr><td>" << escape_html(b) << "</td><td>" << format("%.6g", s.value("mass", 0.0))
+      << "</td>";
     for (int k = 0; k < 3; ++k)
       h << "<td>" << format("%.4g", s["com_velocity"][k].get<double>()) << "</td>";
     h << "<td>" << s.value("killed_particles", 0) << "</td><td>" << s.value("eroded_elements", 0)
@@ -369,11 +336,11 @@ Report write_report(const ReportOptions& o) {
     page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) +
                              " µs through the model's centre, normal y (section.csv).");
     for (const auto& [body, deflection] : cut.max_deflection)
-      h << "<p>Largest permanent deflection of " << escape(body) << ": "
+      h << "<p>Largest permanent deflection of " << escape_html(body) << ": "
         << format("%.4g", deflection * 1e3) << " mm.</p>\n";
   } catch (const std::exception& e) {
     report.skipped.push_back(std::string("section: ") + e.what());
-    h << "<p>No section: " << escape(e.what()) << "</p>\n";
+    h << "<p>No section: " << escape_html(e.what()) << "</p>\n";
   }
 
   h << "<h2>Fragments and plug</h2>\n";
@@ -403,7 +370,7 @@ Report write_report(const ReportOptions& o) {
       << format("%.4g", fragments.debris_mass) << " kg.</p>\n";
   } catch (const std::exception& e) {
     report.skipped.push_back(std::string("plug: ") + e.what());
-    h << "<p>No fragments: " << escape(e.what()) << "</p>\n";
+    h << "<p>No fragments: " << escape_html(e.what()) << "</p>\n";
   }
 
   h << "<h2>Against the reference</h2>\n";
@@ -411,19 +378,19 @@ Report write_report(const ReportOptions& o) {
     h << "<p>No reference values (put a reference.csv with columns quantity,value,unit,source "
          "beside the case file).</p>\n";
   } else {
-    h << "<p>From " << escape(reference_file.string())
+    h << "<p>From " << escape_html(reference_file.string())
       << ".</p>\n<table><tr><th>quantity</th><th>reference</th><th>this run</th><th>unit</th>"
          "<th>relative error</th><th>source</th></tr>\n";
     for (ReferenceRow& r : report.references) {
       const std::optional<double> value = value_of(summary, history, r.quantity);
       r.found = value.has_value();
       r.value = value.value_or(std::numeric_limits<double>::quiet_NaN());
-      h << "<tr><td>" << escape(r.quantity) << "</td><td>" << format("%.6g", r.reference)
+      h << "<tr><td>" << escape_html(r.quantity) << "</td><td>" << format("%.6g", r.reference)
         << "</td><td>" << (r.found ? format("%.6g", r.value) : "not in this run") << "</td><td>"
-        << escape(r.unit) << "</td><td"
+        << escape_html(r.unit) << "</td><td"
         << (r.found && std::abs(r.relative_error()) > 0.05 ? " class=\"bad\"" : "") << ">"
         << (r.found ? format("%+.2f%%", 100 * r.relative_error()) : "") << "</td><td>"
-        << escape(r.source) << "</td></tr>\n";
+        << escape_html(r.source) << "</td></tr>\n";
     }
     h << "</table>\n";
   }

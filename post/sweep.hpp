@@ -1,0 +1,72 @@
+// Ballistic sweeps (`sphfem sweep`, app/sweep_command.hpp): the results of many runs that differ
+// in one case key (the impact velocity), read back from each run's summary.json ("results":
+// perforated, residual velocities of projectile and plug along the impact axis, plug mass), the
+// bisection of the ballistic limit, a reference curve (an experiment) and the tables, chart and
+// page: DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html. A run without those
+// results (an older run, a failed one) is "unknown": listed, never fitted. Velocities in m/s,
+// masses in kg, times in s. Verified by tests/post/sweep_test.cpp.
+#pragma once
+
+#include "post/recht_ipson.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sphfem::post {
+
+struct SweepRun {
+  double v0 = 0;                  // the swept number, m/s
+  std::string value;              // the key's value as given to --set (YAML)
+  std::filesystem::path folder;   // the run's output folder
+  std::optional<bool> perforated; // empty: unknown
+  std::optional<double> residual_projectile, residual_plug, plug_mass; // m/s, m/s, kg
+  double wall_s = 0; // the whole run: mesh, solve and report
+  std::string note;  // why the results are unknown
+
+  bool known() const { return perforated.has_value(); }
+};
+
+// Fills `run`'s results from FOLDER/summary.json; what is missing is left empty and named in
+// `run.note`.
+void read_run_results(SweepRun& run);
+
+// The runs whose outcome is known, as points of the ballistic curve (vr: the projectile's).
+std::vector<BallisticPoint> ballistic_points(const std::vector<SweepRun>& runs);
+
+// The next impact velocity to run when bisecting the ballistic limit: the middle of the bracket
+// (highest non-perforating v0 below the lowest perforating v0, lowest perforating v0), or
+// nothing when the bracket is at most `tolerance` wide or there is no bracket yet.
+std::optional<double> next_bisection(const std::vector<BallisticPoint>& points, double tolerance);
+
+struct ReferencePoint {
+  double v0 = 0, vr = 0; // m/s
+  std::string label;
+};
+
+// Reads a reference curve: CSV with a header naming the columns `v0_column` and `vr_column`
+// (m/s) and optionally `label`; # comments; rows with an empty v0 or vr cell are skipped.
+// Errors name the file and line.
+std::vector<ReferencePoint> read_ballistic_reference(const std::filesystem::path& file,
+                                                     const std::string& v0_column = "v0",
+                                                     const std::string& vr_column = "vr");
+
+struct Sweep {
+  std::string case_file, key, command; // command: the sweep's own command line, for the page
+  std::vector<SweepRun> runs;
+  std::optional<RechtIpson> fit;
+  std::filesystem::path reference_file; // empty: none
+  std::vector<ReferencePoint> reference;
+};
+
+struct SweepFiles {
+  std::filesystem::path csv, json, png, html;
+};
+
+// Writes DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html, the runs sorted by v0.
+// With a reference: per reference point, the error of the run at the same v0 (if any) and of
+// the fit (if any), and the rms of each.
+SweepFiles write_sweep(const Sweep& sweep, const std::filesystem::path& dir);
+
+} // namespace sphfem::post
