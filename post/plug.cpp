@@ -1,5 +1,7 @@
 #include "post/plug.hpp"
 
+#include "post/frames.hpp"
+
 #include "post/line_chart.hpp"
 #include "post/post.hpp"
 #include "solver/core/error.hpp"
@@ -15,7 +17,6 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,26 +29,6 @@ namespace sphfem::post {
 namespace fs = std::filesystem;
 
 namespace {
-
-// One frame of results.pvd: its particle and FE files (empty if the model has none).
-struct FrameFiles {
-  double time;
-  fs::path particles, elements;
-};
-
-std::vector<FrameFiles> frame_list(const fs::path& pvd) {
-  std::vector<FrameFiles> frames;
-  for (const auto& [time, file] : read_pvd(pvd)) {
-    if (frames.empty() || frames.back().time != time)
-      frames.push_back({time, {}, {}});
-    const fs::path path = pvd.parent_path() / file;
-    // frame_writer names the parts fe_NNNNNN.vtu and sph_NNNNNN.vtu.
-    (path.filename().string().rfind("sph_", 0) == 0 ? frames.back().particles
-                                                    : frames.back().elements) = path;
-  }
-  SPHFEM_CHECK(!frames.empty(), pvd.string(), ": lists no frames");
-  return frames;
-}
 
 // Everything of one frame the fragment search needs, for all bodies.
 struct Frame {
@@ -71,16 +52,6 @@ vtkDataArray* array(vtkDataSetAttributes* data, const char* name, int components
                  file.string(), ": array ", name, " has ", a->GetNumberOfTuples(), "×",
                  a->GetNumberOfComponents(), " values, expected ", count, "×", components);
   return a;
-}
-
-vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& file) {
-  SPHFEM_CHECK(fs::is_regular_file(file), file.string(), ": no such frame file");
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(file.string().c_str());
-  reader->Update();
-  vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
-  SPHFEM_CHECK(grid && grid->GetNumberOfPoints() > 0, file.string(), ": cannot read the frame");
-  return grid;
 }
 
 Vec3 tuple3(vtkDataArray* a, vtkIdType i) {
@@ -320,12 +291,8 @@ PlugResult write_plug(const PlugOptions& o) {
                ": has neither particles nor elements");
   const double spacing = has_particles ? model.spacing_b[body] : 0;
 
-  const auto frames = frame_list(pvd);
-  std::size_t chosen = frames.size() - 1;
-  if (o.time)
-    for (std::size_t i = 0; i < frames.size(); ++i)
-      if (std::abs(frames[i].time - *o.time) < std::abs(frames[chosen].time - *o.time))
-        chosen = i;
+  const auto frames = frame_files(pvd);
+  const std::size_t chosen = nearest_frame(frames, o.time);
   const Frame first = read_frame(frames[0]);
   const Frame frame = chosen == 0 ? first : read_frame(frames[chosen]);
   const FragmentSource source = select_body(frame, body);

@@ -1,5 +1,7 @@
 #include "post/section.hpp"
 
+#include "post/frames.hpp"
+
 #include "post/line_chart.hpp"
 #include "post/particle_outline.hpp"
 #include "post/post.hpp"
@@ -19,7 +21,6 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
 #include <array>
@@ -71,17 +72,6 @@ Plane make_plane(const SectionOptions& o) {
   return p;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& file) {
-  SPHFEM_CHECK(fs::is_regular_file(file), file.string(), ": no such frame file");
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  SPHFEM_CHECK(reader->GetErrorCode() == 0 && reader->GetOutput(), file.string(),
-               ": cannot read the frame");
-  vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
-  return grid;
-}
-
 vtkDataArray* array(vtkDataSetAttributes* data, const char* name, const fs::path& file,
                     int components) {
   vtkDataArray* a = data->GetArray(name);
@@ -101,23 +91,14 @@ Frame read_frame(const fs::path& run, std::optional<double> time) {
   const fs::path pvd = run / "results.pvd";
   SPHFEM_CHECK(fs::is_regular_file(pvd), pvd.string(),
                ": no such file (not a run folder; run `sphfem solve` first)");
-  const auto entries = read_pvd(pvd);
-  SPHFEM_CHECK(!entries.empty(), pvd.string(), ": lists no frames");
   SPHFEM_CHECK(!time || std::isfinite(*time), "--time ", *time, ": expected seconds");
-  double best = entries.back().first;
-  if (time)
-    for (const auto& e : entries)
-      if (std::abs(e.first - *time) < std::abs(best - *time))
-        best = e.first;
-  Frame f{best, nullptr, nullptr, {}, {}};
-  for (const auto& [t, name] : entries)
-    if (t == best) {
-      const fs::path file = pvd.parent_path() / name;
-      auto grid = read_vtu(file);
-      const bool hexahedra = grid->GetNumberOfCells() > 0 && grid->GetCellType(0) == VTK_HEXAHEDRON;
-      (hexahedra ? f.fe : f.sph) = grid;
-      (hexahedra ? f.fe_file : f.sph_file) = file;
-    }
+  const auto frames = frame_files(pvd);
+  const FrameFiles& files = frames[nearest_frame(frames, time)];
+  Frame f{files.time, nullptr, nullptr, files.elements, files.particles};
+  if (!files.elements.empty())
+    f.fe = read_vtu(files.elements);
+  if (!files.particles.empty())
+    f.sph = read_vtu(files.particles);
   return f;
 }
 

@@ -1,6 +1,7 @@
 // Acceptance tests of `sphfem material` (app/material_command.hpp), run as the built binary:
 // the Weldox 460 E flow stress at p = 0.2 and its failure strain in a 1e-3/s tensile test
 // against the closed forms of METHOD.md §5, an unknown material name, and the chart.
+#include "tests/support/command.hpp"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,33 +14,17 @@
 #include <vector>
 
 namespace fs = std::filesystem;
+using sphfem::test::Result;
+using sphfem::test::run_sphfem;
+using sphfem::test::slurp;
 
 namespace {
-
-struct Result {
-  int code;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 fs::path scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("sphfem_material_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-Result run_sphfem(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string(SPHFEM_BINARY) + " " + args + " >" +
-                          (dir / "stdout.txt").string() + " 2>" + (dir / "stderr.txt").string();
-  const int status = std::system(cmd.c_str());
-  return {WEXITSTATUS(status), slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
 }
 
 // The CSV's columns by name ('#' lines are comments).

@@ -1,0 +1,29 @@
+// The frames of a run as the post tool reads them back: results.pvd's list grouped per time
+// into its particle file (frames/sph_*.vtu) and FE file (frames/fe_*.vtu), the frame nearest
+// to a time, and one VTU file read with VTK's own reader. Used by post section and post plug.
+#pragma once
+
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+namespace sphfem::post {
+
+struct FrameFiles {
+  double time;                               // s
+  std::filesystem::path particles, elements; // empty if the model has none
+};
+
+// The frames results.pvd lists, in its order; an empty list is an Error.
+std::vector<FrameFiles> frame_files(const std::filesystem::path& pvd);
+
+// The index of the frame nearest to `time`; without one, the last.
+std::size_t nearest_frame(const std::vector<FrameFiles>& frames, std::optional<double> time);
+
+// One frame file; a missing or unreadable one is an Error naming it.
+vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::filesystem::path& file);
+
+} // namespace sphfem::post
