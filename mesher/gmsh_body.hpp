@@ -1,6 +1,7 @@
-// Mesher internals: one body at a time in gmsh's current model. box.cpp and cylinder.cpp build
-// the geometry with structured-mesh constraints and named faces; extract.cpp copies the mesh
-// into the Model. Verified by tests/mesher/mesher_test.cpp.
+// Mesher internals: one body at a time in gmsh's current model. box.cpp, cylinder.cpp and
+// ring.cpp build the geometry with structured-mesh constraints and named faces; extract.cpp
+// copies the mesh into the Model. Verified by tests/mesher/mesher_test.cpp and
+// tests/mesher/ring_test.cpp.
 #pragma once
 
 #include "solver/io/case.hpp"
@@ -21,9 +22,14 @@ struct Placement {
 // recombination constraints set, faces added as physical surfaces "<body>/<face>".
 Placement build_box(const BodySpec& body);
 Placement build_cylinder(const BodySpec& body);
+Placement build_ring(const BodySpec& body);
 
 // Number of element layers for `length` at `element_size`: max(1, round(length / size)).
 int divisions(double length, double element_size);
+
+// Positions of the model points bounding entity (dim, tag), e.g. a surface's corners
+// (synchronised model).
+std::vector<Vec3> corner_points(int dim, int tag);
 
 // Adds the surfaces as the physical surface group named `name`.
 void add_named_face(const std::string& name, const std::vector<int>& surfaces);

@@ -26,6 +26,7 @@
 //   of one of the file's volumes (solid_file.cpp, ray_parity.cpp). Each particle has volume Δp³,
 //   so the total mass of a curved body is the lattice-count approximation ρ0 · N · Δp³ of
 //   ρ0 · V (the count error is a boundary effect of relative size ~Δp / body size).
+// Rings and quarter cylinders are FE-only geometries: filling one is an error.
 // Every particle: mass ρ0 · volume, density ρ0, smoothing length h = h_factor · Δp (the nominal
 // Δp, also for a box whose spacing was adjusted). Verified by tests/mesher/lattice_test.cpp.
 #include "mesher/lattice.hpp"
@@ -312,6 +313,8 @@ void append_particles(Model& model, int body_id, const BodySpec& body, double de
     SPHFEM_CHECK(c.radius > 0 && std::isfinite(c.radius), "cylinder radius must be positive");
     SPHFEM_CHECK(c.axis.allFinite() && c.axis.norm() > 0, "cylinder axis must be non-zero");
     SPHFEM_CHECK(c.base.allFinite(), "cylinder base must be finite");
+    SPHFEM_CHECK(c.sector == Sector::Full,
+                 "a quarter cylinder can only be meshed with hexahedra (method fem)");
     check_fits(dp, std::min(2 * c.radius, c.axis.norm()), "its smaller of diameter and length is");
     const auto [low, high] = cylinder_bounds(c);
     ParticleSink sink(model, body_id, dp * dp * dp, density, h);
@@ -319,6 +322,8 @@ void append_particles(Model& model, int body_id, const BodySpec& body, double de
     SPHFEM_CHECK(sink.added() > 0, "no lattice point of spacing ", dp, " m lies inside the body");
     return;
   }
+  case GeometrySpec::Kind::Ring:
+    throw Error("a ring can only be meshed with hexahedra (method fem)");
   case GeometrySpec::Kind::File: {
     ParticleSink sink(model, body_id, dp * dp * dp, density, h);
     fill_file(sink, g.file, dp);

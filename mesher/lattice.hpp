@@ -65,7 +65,8 @@ std::vector<Triangulation> solid_boundaries(const std::filesystem::path& file, d
 // `model`, column by column of its lattice (x slowest, z fastest); for a box also its six
 // particle faces "<body>/xmin" … "<body>/zmax" (Model::particle_faces; rules in lattice.cpp).
 // File geometries need a gmsh session. Throws sphfem::Error if the spacing exceeds the body, no
-// lattice point is inside, or lattice nodes is asked for a geometry other than a box.
+// lattice point is inside, lattice nodes is asked for a geometry other than a box, or the
+// geometry is a ring or a quarter cylinder (FE only).
 void append_particles(Model& model, int body_id, const BodySpec& body, double density);
 
 } // namespace sphfem::mesher

@@ -57,6 +57,8 @@ mesher::Placement build_body(const BodySpec& body) {
     return mesher::build_box(body);
   case GeometrySpec::Kind::Cylinder:
     return mesher::build_cylinder(body);
+  case GeometrySpec::Kind::Ring:
+    return mesher::build_ring(body);
   case GeometrySpec::Kind::File:
     throw Error("a geometry file can only be filled with particles (method sph)");
   }
@@ -128,13 +130,24 @@ std::string content_hash(const std::filesystem::path& file) {
   return out.str();
 }
 
+std::string sector_name(Sector sector) {
+  return sector == Sector::Quarter ? "quarter" : "full";
+}
+
+// A full cylinder keeps the text it had before quarters existed.
 std::string geometry_signature(const GeometrySpec& g) {
   switch (g.kind) {
   case GeometrySpec::Kind::Box:
     return "box min=" + exact(g.box.min) + " max=" + exact(g.box.max);
   case GeometrySpec::Kind::Cylinder:
     return "cylinder base=" + exact(g.cylinder.base) + " axis=" + exact(g.cylinder.axis) +
-           " radius=" + exact(g.cylinder.radius);
+           " radius=" + exact(g.cylinder.radius) +
+           (g.cylinder.sector == Sector::Quarter ? " sector=quarter" : "");
+  case GeometrySpec::Kind::Ring:
+    return "ring base=" + exact(g.ring.base) + " half_width=" + exact(g.ring.half_width) +
+           " radius=" + exact(g.ring.radius) + " thickness=" + exact(g.ring.thickness) +
+           " rim_element_size=" + exact(g.ring.rim_element_size) +
+           " sector=" + sector_name(g.ring.sector);
   case GeometrySpec::Kind::File:
     return "file path=" + g.file.string() + " fnv1a64=" + content_hash(g.file);
   }
@@ -189,6 +202,18 @@ int divisions(double length, double element_size) {
   return std::max(1, static_cast<int>(std::lround(n)));
 }
 
+std::vector<Vec3> corner_points(int dim, int tag) {
+  gmsh::vectorpair points;
+  gmsh::model::getBoundary({{dim, tag}}, points, false, false, true);
+  std::vector<Vec3> x;
+  for (const auto& [point_dim, point] : points) {
+    std::vector<double> c;
+    gmsh::model::getValue(0, point, {}, c);
+    x.emplace_back(c[0], c[1], c[2]);
+  }
+  return x;
+}
+
 void add_named_face(const std::string& name, const std::vector<int>& surfaces) {
   const int group = gmsh::model::addPhysicalGroup(2, surfaces);
   gmsh::model::setPhysicalName(2, group, name);
@@ -220,7 +245,7 @@ Model mesh_case(const Case& c) {
 
 std::string mesh_signature(const Case& c) {
   std::ostringstream out;
-  out << "sphfem-mesh 1\n";
+  out << "sphfem-mesh 2\n"; // 2: cylinder cores meshed at the element size
   for (const BodySpec& body : c.bodies) {
     try {
       out << "body " << body.name << " method=" << method_name(body.method) << ' '

@@ -1,10 +1,12 @@
-// Tests of mesher/mesher.hpp: box and cylinder hex meshes checked against independent
-// geometry (tetrahedral volumes, corner Jacobians, face normals and areas, conformity), two-body
-// and mixed FE/SPH models, mesh signatures and errors. SPH lattices: lattice_test.cpp.
+// Tests of mesher/mesher.hpp: box, cylinder and quarter-cylinder hex meshes checked against
+// independent geometry (hex_checks.hpp: tetrahedral volumes, corner Jacobians, face normals and
+// areas, conformity), two-body and mixed FE/SPH models, mesh signatures and errors. Rings:
+// ring_test.cpp; SPH lattices: lattice_test.cpp.
 #include "mesher/mesher.hpp"
 
 #include "mesher/gmsh_body.hpp"
 #include "solver/core/error.hpp"
+#include "tests/mesher/hex_checks.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -21,6 +23,9 @@
 
 namespace sphfem {
 namespace {
+
+using test::expect_valid_mesh, test::hex_volume, test::min_corner_jacobian, test::quad_normal_area,
+    test::total_volume;
 
 // ---- case construction ----------------------------------------------------------------------
 
@@ -67,130 +72,6 @@ Case case_of(std::vector<BodySpec> bodies) {
                          .poisson_ratio = 0.33});
   c.bodies = std::move(bodies);
   return c;
-}
-
-// ---- independent geometry -------------------------------------------------------------------
-
-double tet_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  return (b - a).dot((c - a).cross(d - a)) / 6.0;
-}
-
-// Six tetrahedra around the 0–6 diagonal (exact for hexes with planar faces).
-double hex_volume(const Model& m, const Hex& h) {
-  static constexpr int tets[6][2] = {{1, 2}, {2, 3}, {3, 7}, {7, 4}, {4, 5}, {5, 1}};
-  double v = 0;
-  for (const auto& t : tets)
-    v += tet_volume(m.x_n[h[0]], m.x_n[h[t[0]]], m.x_n[h[t[1]]], m.x_n[h[6]]);
-  return v;
-}
-
-// Smallest triple product of the three edges at a corner, taken along +ξ, +η, +ζ: positive
-// for a valid hex in gmsh order (bottom 0–3 counter-clockwise about +ζ, top 4–7 above).
-double min_corner_jacobian(const Model& m, const Hex& h) {
-  static constexpr int xi[8] = {-1, 1, 1, -1, -1, 1, 1, -1};
-  static constexpr int eta[8] = {-1, -1, 1, 1, -1, -1, 1, 1};
-  static constexpr int zeta[8] = {-1, -1, -1, -1, 1, 1, 1, 1};
-  const auto along = [&](int i, int dir) {
-    for (int j = 0; j < 8; ++j) {
-      const int diff = (xi[i] != xi[j]) + (eta[i] != eta[j]) + (zeta[i] != zeta[j]);
-      const bool in_dir = (dir == 0 && xi[i] != xi[j]) || (dir == 1 && eta[i] != eta[j]) ||
-                          (dir == 2 && zeta[i] != zeta[j]);
-      if (diff == 1 && in_dir) {
-        const int sign = dir == 0 ? xi[j] : dir == 1 ? eta[j] : zeta[j];
-        return Vec3(sign * (m.x_n[h[j]] - m.x_n[h[i]]));
-      }
-    }
-    return Vec3(Vec3::Zero());
-  };
-  double least = INFINITY;
-  for (int i = 0; i < 8; ++i)
-    least = std::min(least, along(i, 0).dot(along(i, 1).cross(along(i, 2))));
-  return least;
-}
-
-Vec3 quad_normal_area(const Model& m, const Quad& q) { // right-hand normal × area (planar)
-  return 0.5 * (m.x_n[q[2]] - m.x_n[q[0]]).cross(m.x_n[q[3]] - m.x_n[q[1]]);
-}
-
-Vec3 quad_centroid(const Model& m, const Quad& q) {
-  return 0.25 * (m.x_n[q[0]] + m.x_n[q[1]] + m.x_n[q[2]] + m.x_n[q[3]]);
-}
-
-Vec3 body_centroid(const Model& m, int body) {
-  Vec3 sum = Vec3::Zero();
-  int n = 0;
-  for (Index i = 0; i < m.node_count(); ++i)
-    if (m.body_n[i] == body) {
-      sum += m.x_n[i];
-      ++n;
-    }
-  return sum / n;
-}
-
-double total_volume(const Model& m, int body) {
-  double v = 0;
-  for (Index e = 0; e < m.element_count(); ++e)
-    if (m.body_e[e] == body)
-      v += hex_volume(m, m.hex_e[e]);
-  return v;
-}
-
-// Faces used by exactly one hex: the mesh's boundary, counted independently of the mesher.
-std::size_t boundary_face_count(const Model& m) {
-  static constexpr int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                      {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  std::map<std::array<Index, 4>, int> uses;
-  for (const Hex& h : m.hex_e)
-    for (const auto& f : faces) {
-      std::array<Index, 4> key{h[f[0]], h[f[1]], h[f[2]], h[f[3]]};
-      std::sort(key.begin(), key.end());
-      ++uses[key];
-    }
-  std::size_t boundary = 0;
-  for (const auto& [key, n] : uses) {
-    EXPECT_LE(n, 2);
-    boundary += n == 1;
-  }
-  return boundary;
-}
-
-// Checks every hex is valid and every named face is on the boundary, outward, and complete.
-void expect_valid_mesh(const Model& m) {
-  ASSERT_EQ(m.body_n.size(), m.x_n.size());
-  ASSERT_EQ(m.body_e.size(), m.hex_e.size());
-  std::vector<bool> used(m.x_n.size(), false);
-  for (const Hex& h : m.hex_e) {
-    for (const Index i : h) {
-      ASSERT_GE(i, 0);
-      ASSERT_LT(i, m.node_count());
-      used[i] = true;
-    }
-    EXPECT_GT(hex_volume(m, h), 0);
-    EXPECT_GT(min_corner_jacobian(m, h), 0);
-  }
-  EXPECT_TRUE(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
-
-  std::size_t named_quads = 0;
-  for (const auto& [name, quads] : m.face_sets) {
-    const std::string body = name.substr(0, name.find('/'));
-    const auto b = static_cast<int>(std::find(m.body_names.begin(), m.body_names.end(), body) -
-                                    m.body_names.begin());
-    ASSERT_LT(b, static_cast<int>(m.body_names.size())) << name;
-    const Vec3 centre = body_centroid(m, b);
-    std::set<Index> nodes;
-    for (const Quad& q : quads) {
-      EXPECT_GT(quad_normal_area(m, q).dot(quad_centroid(m, q) - centre), 0) << name;
-      for (const Index i : q) {
-        EXPECT_EQ(m.body_n[i], b) << name;
-        nodes.insert(i);
-      }
-    }
-    ASSERT_TRUE(m.node_sets.contains(name));
-    EXPECT_EQ(m.node_sets.at(name), std::vector<Index>(nodes.begin(), nodes.end())) << name;
-    named_quads += quads.size();
-  }
-  EXPECT_EQ(m.node_sets.size(), m.face_sets.size());
-  EXPECT_EQ(boundary_face_count(m), named_quads); // named faces cover the whole boundary
 }
 
 // ---- box ------------------------------------------------------------------------------------
@@ -292,10 +173,12 @@ void expect_cylinder(const Model& m, const CylinderGeometry& g, double h) {
   EXPECT_NEAR(volume, 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n) * length,
               1e-12 * exact); // the rim nodes are equally spaced in angle
 
-  // Element size close to the requested one.
-  const double circumferential = 2 * std::numbers::pi * r / n;
-  EXPECT_GT(circumferential, 0.7 * h);
-  EXPECT_LT(circumferential, 1.4 * h);
+  // Element size close to the requested one: the core's sides (2c = R, n/4 elements each) get
+  // about h, the rim arcs π/2 · R/(n/4), about π/2 h.
+  const double core_side = 4 * r / n, circumferential = 2 * std::numbers::pi * r / n;
+  EXPECT_GT(core_side, 0.7 * h);
+  EXPECT_LT(core_side, 1.4 * h);
+  EXPECT_NEAR(circumferential, 0.5 * std::numbers::pi * core_side, 1e-12 * r);
   EXPECT_NEAR(length / layers, h, 0.5 * h);
 }
 
@@ -322,6 +205,87 @@ TEST(CylinderMesh, CoarseCylinderStillValid) {
   const Model m = mesh_case(case_of({cylinder_body("rod", g.base, g.axis, g.radius, 0.02)}));
   expect_valid_mesh(m);
   EXPECT_EQ(m.element_count(), 5); // core + 4 ring blocks, one layer
+}
+
+// ---- quarter cylinder -----------------------------------------------------------------------
+
+BodySpec quarter_cylinder_body(const Vec3& base, double length, double radius, double h) {
+  BodySpec b = cylinder_body("rod", base, {0, 0, length}, radius, h);
+  b.geometry.cylinder.sector = Sector::Quarter;
+  return b;
+}
+
+// R = 10 mm, L = 80 mm, h = 1 mm: n = round(c / h) = 5 hexes along each 45° arc and core
+// side (c = R/2), round(R − c(1 + √2)/2) = 4 radially, 80 layers.
+TEST(QuarterCylinderMesh, IsTheQuarterOGridWithFlatCutFaces) {
+  const Vec3 base(0.01, -0.02, 0.003);
+  const double r = 0.01, length = 0.08, h = 0.001;
+  const int n = 5, radial = 4, layers = 80;
+  const Model m = mesh_case(case_of({quarter_cylinder_body(base, length, r, h)}));
+  expect_valid_mesh(m);
+  // Per layer: the core's n² and the two ring blocks' n·radial hexes; per plane: the core's
+  // (n + 1)² nodes and the ring's (2n + 1)·radial beyond the core.
+  const int plane = (n + 1) * (n + 1) + (2 * n + 1) * radial;
+  EXPECT_EQ(m.element_count(), (n * n + 2 * n * radial) * layers);
+  EXPECT_EQ(m.node_count(), plane * (layers + 1));
+
+  const std::map<std::string, std::size_t> expected_nodes{
+      {"rod/base", plane},
+      {"rod/top", plane},
+      {"rod/side", (2 * n + 1) * (layers + 1)},
+      {"rod/xmin", (n + radial + 1) * (layers + 1)},
+      {"rod/ymin", (n + radial + 1) * (layers + 1)}};
+  ASSERT_EQ(m.node_sets.size(), expected_nodes.size());
+  for (const auto& [name, count] : expected_nodes) {
+    ASSERT_TRUE(m.node_sets.contains(name)) << name;
+    EXPECT_EQ(m.node_sets.at(name).size(), count) << name;
+  }
+  // Nodes on their planes and the rim to round-off (1e-15 m is a few ulps of 0.08 m).
+  const auto d = [&](Index i) { return Vec3(m.x_n[i] - base); };
+  for (const Index i : m.node_sets.at("rod/xmin"))
+    EXPECT_NEAR(d(i).x(), 0, 1e-15);
+  for (const Index i : m.node_sets.at("rod/ymin"))
+    EXPECT_NEAR(d(i).y(), 0, 1e-15);
+  for (const Index i : m.node_sets.at("rod/base"))
+    EXPECT_NEAR(d(i).z(), 0, 1e-15);
+  for (const Index i : m.node_sets.at("rod/top"))
+    EXPECT_NEAR(d(i).z(), length, 1e-15);
+  for (const Index i : m.node_sets.at("rod/side"))
+    EXPECT_NEAR(d(i).head<2>().norm(), r, 1e-15);
+  for (Index i = 0; i < m.node_count(); ++i) {
+    EXPECT_GE(d(i).x(), -1e-15);
+    EXPECT_GE(d(i).y(), -1e-15);
+    EXPECT_LE(d(i).head<2>().norm(), r + 1e-15);
+  }
+  // Outward normals of the cut faces are −x and −y; their areas are those of the rectangles.
+  for (const auto& [name, axis] : {std::pair{"rod/xmin", 0}, std::pair{"rod/ymin", 1}}) {
+    Vec3 area = Vec3::Zero();
+    for (const Quad& q : m.face_sets.at(name))
+      area += quad_normal_area(m, q);
+    EXPECT_NEAR((area + r * length * Vec3::Unit(axis)).norm(), 0, 1e-12 * r * length) << name;
+  }
+
+  // The hexes fill the prism over the inscribed polygon of the quarter rim: 2n chords of
+  // θ = π/(4n), area n R² sin θ, short of π R²/4 by at most (π R²/4)·θ²/6 (θ − sin θ ≤ θ³/6).
+  const double theta = std::numbers::pi / (4 * n);
+  const double exact = 0.25 * std::numbers::pi * r * r * length;
+  const double volume = total_volume(m, 0);
+  EXPECT_NEAR(volume, n * r * r * std::sin(theta) * length, 1e-12 * exact);
+  EXPECT_LE(volume, exact);
+  EXPECT_GE(volume, exact * (1 - theta * theta / 6));
+}
+
+TEST(QuarterCylinderMesh, AxisMustBeAlongPlusZ) {
+  for (const Vec3& axis : {Vec3(0, 0, -0.05), Vec3(0.05, 0, 0), Vec3(0.001, 0, 0.05)}) {
+    BodySpec rod = quarter_cylinder_body(Vec3::Zero(), 0.05, 0.01, 0.002);
+    rod.geometry.cylinder.axis = axis;
+    try {
+      mesh_case(case_of({rod}));
+      ADD_FAILURE() << "no error for axis " << axis.transpose();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("along +z"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // ---- several bodies -------------------------------------------------------------------------
@@ -466,10 +430,20 @@ TEST(MeshSignature, FemSignatureTextIsUnchanged) {
   const Case c = case_of({box_body("plate", {0, 0, 0}, {0.5, 0.5, 0.012}, 0.004),
                           cylinder_body("rod", {0, 0, 0.1}, {0, 0, 0.04}, 0.01, 0.002)});
   EXPECT_EQ(mesh_signature(c),
-            "sphfem-mesh 1\n"
+            "sphfem-mesh 2\n"
             "body plate method=fem box min=0,0,0 max=0.5,0.5,0.012 element_size=0.004\n"
             "body rod method=fem cylinder base=0,0,0.1 axis=0,0,0.04 radius=0.01 "
             "element_size=0.002\n");
+}
+
+// A quarter cylinder says so; a full one keeps the text above.
+TEST(MeshSignature, QuarterCylinderIsNamed) {
+  Case c = case_of({quarter_cylinder_body({0, 0, 0.1}, 0.04, 0.01, 0.002)});
+  EXPECT_EQ(mesh_signature(c), "sphfem-mesh 2\n"
+                               "body rod method=fem cylinder base=0,0,0.1 axis=0,0,0.04 "
+                               "radius=0.01 sector=quarter element_size=0.002\n");
+  c.bodies[0].geometry.cylinder.sector = Sector::Full;
+  EXPECT_EQ(mesh_signature(c).find("sector"), std::string::npos);
 }
 
 TEST(MeshSignature, ChangesWithSphInputs) {
@@ -589,6 +563,11 @@ TEST(MeshErrors, BadBodiesAreNamed) {
   expect_error_naming(case_of({cylinder_body("short", {0, 0, 0}, {0, 0, 0}, 1, 0.1)}), "short");
   expect_error_naming(case_of({ok, ok}), "ok");
   expect_error_naming(case_of({box_body("too_fine", {0, 0, 0}, {1, 1, 1}, 1e-7)}), "too_fine");
+  BodySpec sph_quarter = quarter_cylinder_body({0, 0, 0}, 0.01, 0.005, 0);
+  sph_quarter.name = "sph_quarter";
+  sph_quarter.method = Method::Sph;
+  sph_quarter.spacing = 0.001;
+  expect_error_naming(case_of({sph_quarter}), "sph_quarter"); // quarters are FE only
 }
 
 } // namespace
