@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -57,7 +58,24 @@ const nlohmann::json* at_path(const nlohmann::json& doc, const std::string& path
     else
       return nullptr;
   }
-  return node->is_number() ? node : nullptr;
+  return node;
+}
+
+// Whether a reference row's `when` (path=value) holds for this run's summary.
+bool applies(const ReferenceRow& row, const nlohmann::json& summary) {
+  if (row.when.empty())
+    return true;
+  const auto equals = row.when.find('=');
+  const nlohmann::json* node = at_path(summary, row.when.substr(0, equals));
+  const std::string wanted = row.when.substr(equals + 1);
+  if (node && node->is_string())
+    return node->get<std::string>() == wanted;
+  if (!node || !node->is_number())
+    return false;
+  char* end = nullptr;
+  const double v = std::strtod(wanted.c_str(), &end);
+  return end != wanted.c_str() && *end == '\0' &&
+         std::abs(node->get<double>() - v) <= 1e-9 * std::max(std::abs(v), 1e-300);
 }
 
 // A reference quantity's value in this run: a path into summary.json, or
@@ -79,7 +97,7 @@ std::optional<double> value_of(const nlohmann::json& summary, const History& his
     return std::nullopt;
   }
   const nlohmann::json* node = at_path(summary, quantity);
-  return node ? std::optional<double>(node->get<double>()) : std::nullopt;
+  return node && node->is_number() ? std::optional<double>(node->get<double>()) : std::nullopt;
 }
 
 struct Page {
@@ -225,6 +243,9 @@ std::vector<ReferenceRow> read_reference_csv(const fs::path& file) {
     }
     row.unit = cells.size() > 2 ? cells[2] : "";
     row.source = cells.size() > 3 ? cells[3] : "";
+    row.when = cells.size() > 4 ? cells[4] : "";
+    SPHFEM_CHECK(row.when.empty() || row.when.find('=') != std::string::npos, file.string(), ":",
+                 number, ": when '", row.when, "': expected path=value");
     rows.push_back(row);
   }
   SPHFEM_CHECK(header, file.string(), ": empty (expected the header quantity,value,unit,source)");
@@ -250,8 +271,14 @@ Report write_report(const ReportOptions& o) {
       reference_file = candidate;
   }
   Report report;
+  std::size_t other_runs = 0; // reference rows for other runs (their `when` does not hold)
   if (!reference_file.empty())
-    report.references = read_reference_csv(reference_file);
+    for (const ReferenceRow& r : read_reference_csv(reference_file)) {
+      if (applies(r, summary))
+        report.references.push_back(r);
+      else
+        ++other_runs;
+    }
 
   const fs::path dir = o.out_dir.empty() ? o.run / "report" : o.out_dir;
   std::error_code failed;
@@ -332,9 +359,22 @@ Report write_report(const ReportOptions& o) {
     section.point = 0.5 * (low + high);
     section.normal = Vec3::UnitY();
     section.out_dir = dir;
+    std::string where = "through the model's centre, normal y";
+    if (const auto plane = summary.find("section_plane"); plane != summary.end()) {
+      const auto vec = [](const nlohmann::json& v) {
+        return Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+      };
+      section.point = vec((*plane)["point"]);
+      section.normal = vec((*plane)["normal"]);
+      where = "through (" + format("%.4g", section.point.x() * 1e3) + ", " +
+              format("%.4g", section.point.y() * 1e3) + ", " +
+              format("%.4g", section.point.z() * 1e3) + ") mm, normal (" +
+              format("%.3g", section.normal.x()) + ", " + format("%.3g", section.normal.y()) +
+              ", " + format("%.3g", section.normal.z()) + "), the case's output.section";
+    }
     const SectionResult cut = write_section(section);
-    page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) +
-                             " µs through the model's centre, normal y (section.csv).");
+    page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) + " µs " +
+                             where + " (section.csv).");
     for (const auto& [body, deflection] : cut.max_deflection)
       h << "<p>Largest permanent deflection of " << escape_html(body) << ": "
         << format("%.4g", deflection * 1e3) << " mm.</p>\n";
@@ -375,8 +415,12 @@ Report write_report(const ReportOptions& o) {
 
   h << "<h2>Against the reference</h2>\n";
   if (report.references.empty()) {
-    h << "<p>No reference values (put a reference.csv with columns quantity,value,unit,source "
-         "beside the case file).</p>\n";
+    if (other_runs > 0)
+      h << "<p>No reference values for this run in " << escape_html(reference_file.string())
+        << " (its " << other_runs << " rows are for other runs: see their `when` column).</p>\n";
+    else
+      h << "<p>No reference values (put a reference.csv with columns quantity,value,unit,source "
+           "beside the case file).</p>\n";
   } else {
     h << "<p>From " << escape_html(reference_file.string())
       << ".</p>\n<table><tr><th>quantity</th><th>reference</th><th>this run</th><th>unit</th>"

@@ -29,6 +29,7 @@ struct ReportOptions {
 
 struct ReferenceRow {
   std::string quantity, unit, source;
+  std::string when; // "path=value": the row applies to runs whose summary.json has it; "": all
   double reference = 0, value = 0;
   bool found = false; // whether the run has the quantity
   double relative_error() const;
@@ -45,7 +46,9 @@ struct Report {
 // a part that cannot be made (no frames, no particles) is left out and listed in `skipped`.
 Report write_report(const ReportOptions& options);
 
-// Reads a reference CSV (quantity,value,unit,source; # comments); errors name file:line.
+// Reads a reference CSV (quantity,value,unit,source[,when]; # comments); errors name file:line.
+// `when` (e.g. scene.projectile.velocity=303.5) limits a row to the runs whose summary.json has
+// that value at that path (numbers equal to 1e-9 relative), so one file serves several runs.
 std::vector<ReferenceRow> read_reference_csv(const std::filesystem::path& file);
 
 // RFC 4648 base64 of `bytes`.

@@ -34,24 +34,44 @@ struct BoxGeometry {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();
 };
 
+// The whole of a round body, or its quarter x ≥ x_axis, y ≥ y_axis (axis along +z only) for
+// quarter models with symmetry planes on its cut faces xmin and ymin.
+enum class Sector { Full, Quarter };
+
 // A circular cylinder: base centre, axis vector (its length is the cylinder's length), radius.
 struct CylinderGeometry {
   Vec3 base = Vec3::Zero();
   Vec3 axis = Vec3::UnitZ();
   double radius = 0;
+  Sector sector = Sector::Full; // Quarter: FE bodies only
+};
+
+// A plate ring (FE only): the plate z ∈ [base.z, base.z + thickness] between the square hole
+// |x − base.x|, |y − base.y| ≤ half_width and the circle of `radius` about the vertical axis
+// through `base` — the O-grid around a square SPH core. Hexahedra are element_size at the hole
+// (matching a lattice of that spacing there) and grow geometrically to rim_element_size at the
+// rim (0: the circumferential size there, for square elements in plan).
+// Faces: inner (the hole), rim, bottom, top; a quarter also xmin and ymin.
+struct RingGeometry {
+  Vec3 base = Vec3::Zero();
+  double half_width = 0, radius = 0, thickness = 0;
+  double rim_element_size = 0;
+  Sector sector = Sector::Full;
 };
 
 struct GeometrySpec {
-  enum class Kind { Box, Cylinder, File };
+  enum class Kind { Box, Cylinder, File, Ring };
   Kind kind = Kind::Box;
   BoxGeometry box;
   CylinderGeometry cylinder;
+  RingGeometry ring;
   std::filesystem::path file; // File: a gmsh .geo/.step/.brep closed volume (SPH bodies only)
 };
 
 enum class Method { Fem, Sph };
 
-// Named faces: a box has xmin, xmax, ymin, ymax, zmin, zmax; a cylinder has base, top, side.
+// Named faces: a box has xmin, xmax, ymin, ymax, zmin, zmax; a cylinder has base, top, side
+// (a quarter also xmin, ymin); a ring inner, rim, bottom, top (a quarter also xmin, ymin).
 // FE bodies are meshed with element_size; SPH bodies are filled with a cubic lattice of
 // the given spacing Δp, smoothing length h = h_factor · Δp. An SPH box's lattice puts the
 // particles at cell centres (Centred) or on the nodes of the matching hex grid (Nodes, box only).
@@ -142,8 +162,24 @@ struct ContactSpec {
   double exponent = 2; // n
 };
 
+// The plane of the report's deformed section (post/section.hpp): a point on it and its normal.
+struct SectionPlane {
+  Vec3 point = Vec3::Zero(), normal = Vec3::UnitY();
+};
+
 struct OutputSpec {
   bool frames = true;
+  std::optional<SectionPlane> section; // none: through the model's centre, normal y
+};
+
+// What a scene template was given (solver/io/plate_impact.hpp), for the run's summary.json
+// ("scene"), where reports and sweeps read the impact velocity and the resolution back.
+struct SceneSpec {
+  std::string name;   // plate_impact
+  std::string preset; // coarse, standard, fine
+  bool quarter = false;
+  double spacing = 0;  // the core's Δp, m
+  double velocity = 0; // projectile.velocity, m/s towards the plate
 };
 
 struct Case {
@@ -160,6 +196,7 @@ struct Case {
   FemSpec fem;
   SphSpec sph;
   OutputSpec output;
+  std::optional<SceneSpec> scene;
 
   const MaterialSpec& material(const std::string& name) const;
   int body_index(const std::string& name) const; // -1 if absent

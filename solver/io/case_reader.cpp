@@ -4,6 +4,7 @@
 
 #include "solver/core/error.hpp"
 #include "solver/io/material_library.hpp"
+#include "solver/io/plate_impact.hpp"
 #include "solver/material/material.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -17,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string_view>
 #include <utility>
@@ -82,14 +84,28 @@ std::string geometry_name(GeometrySpec::Kind kind) {
     return "cylinder";
   case GeometrySpec::Kind::File:
     return "geometry file";
+  case GeometrySpec::Kind::Ring:
+    return "ring";
   }
   return "geometry";
 }
 
-Names face_names(GeometrySpec::Kind kind) {
-  if (kind == GeometrySpec::Kind::Box)
+Names face_names(const GeometrySpec& g) {
+  switch (g.kind) {
+  case GeometrySpec::Kind::Box:
     return {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
-  return {"base", "top", "side"};
+  case GeometrySpec::Kind::Cylinder:
+    if (g.cylinder.sector == Sector::Quarter)
+      return {"base", "top", "side", "xmin", "ymin"};
+    return {"base", "top", "side"};
+  case GeometrySpec::Kind::Ring:
+    if (g.ring.sector == Sector::Quarter)
+      return {"inner", "rim", "bottom", "top", "xmin", "ymin"};
+    return {"inner", "rim", "bottom", "top"};
+  case GeometrySpec::Kind::File:
+    break;
+  }
+  return {};
 }
 
 // Geometry files gmsh reads as solids: its own script format and OpenCASCADE's exchange formats.
@@ -285,6 +301,8 @@ private:
   MieGruneisen mie_gruneisen(const Located& at) const;
   BodySpec body(const Entry& entry, const std::vector<MaterialSpec>& materials) const;
   GeometrySpec geometry(const Located& at, Method method) const;
+  Sector sector(const Located& shape, Method method) const;
+  RingGeometry ring(const Located& at) const;
   std::filesystem::path geometry_file(const Located& at) const;
   const BodySpec& body_ref(const Located& item, const std::vector<BodySpec>& bodies) const;
   void check_particle_faces(const Located& at, const BodySpec& body) const;
@@ -298,6 +316,9 @@ private:
   FemSpec fem(const Located& at) const;
   SphSpec sph(const Located& at) const;
   OutputSpec output(const Located& at) const;
+  Case common(const Located& root) const;
+  void options(const Located& root, Case& c) const;
+  Case plate_impact(const Located& root) const;
 };
 
 // The entries of a map in file order; keys must be single values and appear once.
@@ -588,14 +609,53 @@ std::filesystem::path Reader::geometry_file(const Located& at) const {
   return path;
 }
 
+Sector Reader::sector(const Located& shape, Method method) const {
+  const Located at = child(shape, "sector");
+  if (!at.node.IsDefined())
+    return Sector::Full;
+  const Sector sector =
+      choice<Sector>(at, "sector", {{"full", Sector::Full}, {"quarter", Sector::Quarter}});
+  if (sector == Sector::Quarter && method != Method::Fem)
+    fail(at, "quarter is only meshed in hexahedra (method fem); an sph body takes a box");
+  return sector;
+}
+
+RingGeometry Reader::ring(const Located& at) const {
+  check_map(at, {"base", "half_width", "radius", "thickness", "rim_element_size", "sector"});
+  RingGeometry g;
+  g.base = vec3(required(at, "base", "centre of the bottom face [x, y, z], m"));
+  g.half_width =
+      number(required(at, "half_width", "half-width of the square hole, m"), "> 0 m", positive);
+  const Located radius = required(at, "radius", "outer radius, m");
+  g.radius = number(radius, "> 0 m", positive);
+  if (g.radius <= std::numbers::sqrt2 * g.half_width)
+    fail(radius, "must exceed the hole's corner distance √2 · half_width = " +
+                     std::to_string(std::numbers::sqrt2 * g.half_width) + " m");
+  g.thickness = number(required(at, "thickness", "thickness along +z, m"), "> 0 m", positive);
+  g.rim_element_size =
+      number_or(at, "rim_element_size", 0.0, ">= 0 m (0: square elements)", non_negative);
+  g.sector = sector(at, Method::Fem);
+  return g;
+}
+
 GeometrySpec Reader::geometry(const Located& at, Method method) const {
-  check_map(at, {"box", "cylinder", "file"});
+  check_map(at, {"box", "cylinder", "ring", "file"});
   const Located box = child(at, "box");
   const Located cylinder = child(at, "cylinder");
+  const Located ring_at = child(at, "ring");
   const Located file = child(at, "file");
-  if (box.node.IsDefined() + cylinder.node.IsDefined() + file.node.IsDefined() != 1)
-    fail(at, "must have exactly one of: box, cylinder, file");
+  if (box.node.IsDefined() + cylinder.node.IsDefined() + ring_at.node.IsDefined() +
+          file.node.IsDefined() !=
+      1)
+    fail(at, "must have exactly one of: box, cylinder, ring, file");
   GeometrySpec spec;
+  if (ring_at.node.IsDefined()) {
+    if (method != Method::Fem)
+      fail(ring_at, "a ring is only meshed in hexahedra (method fem)");
+    spec.kind = GeometrySpec::Kind::Ring;
+    spec.ring = ring(ring_at);
+    return spec;
+  }
   if (file.node.IsDefined()) {
     if (method != Method::Sph)
       fail(file, "a geometry file is only supported for sph bodies (a fem body needs a box or "
@@ -614,7 +674,7 @@ GeometrySpec Reader::geometry(const Located& at, Method method) const {
                     format(spec.box.min) + ", max " + format(spec.box.max));
     return spec;
   }
-  check_map(cylinder, {"base", "axis", "radius"});
+  check_map(cylinder, {"base", "axis", "radius", "sector"});
   spec.kind = GeometrySpec::Kind::Cylinder;
   spec.cylinder.base = vec3(required(cylinder, "base", "centre of the base [x, y, z], m"));
   const Located axis = required(cylinder, "axis", "axis from base to top [x, y, z], m");
@@ -623,6 +683,11 @@ GeometrySpec Reader::geometry(const Located& at, Method method) const {
     fail(axis, "empty geometry: the axis must have a non-zero length");
   spec.cylinder.radius =
       number(required(cylinder, "radius", "radius, m"), "> 0 m (empty geometry)", positive);
+  spec.cylinder.sector = sector(cylinder, method);
+  const Vec3& a = spec.cylinder.axis;
+  if (spec.cylinder.sector == Sector::Quarter &&
+      !(a.z() > 0 && a.head<2>().norm() <= 1e-12 * a.norm()))
+    fail(axis, "a quarter cylinder needs an axis along +z, got " + format(a));
   return spec;
 }
 
@@ -695,7 +760,7 @@ BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& 
   const BodySpec& body = body_ref(at, c.bodies);
   check_particle_faces(child(at, "body"), body);
   spec.body = body.name;
-  spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
+  spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry), "face");
   const Located velocity = child(at, "velocity");
   const Located function = child(at, "function");
   if (spec.type != BoundaryType::Velocity) {
@@ -726,7 +791,7 @@ PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
   const BodySpec& body = body_ref(at, c.bodies);
   check_particle_faces(child(at, "body"), body);
   spec.body = body.name;
-  spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry.kind), "face");
+  spec.face = one_of(required(at, "face", "face name"), face_names(body.geometry), "face");
   spec.pressure = number(required(at, "pressure", "pressure, Pa, positive pushes into the body"));
   if (const Located function = child(at, "function"); function.node.IsDefined())
     spec.function = time_function(function);
@@ -882,10 +947,21 @@ SphSpec Reader::sph(const Located& at) const {
 }
 
 OutputSpec Reader::output(const Located& at) const {
-  check_map(at, {"frames"});
+  check_map(at, {"frames", "section"});
   OutputSpec spec;
   if (const Located frames = child(at, "frames"); frames.node.IsDefined())
     spec.frames = flag(frames);
+  if (const Located section = child(at, "section"); section.node.IsDefined()) {
+    check_map(section, {"point", "normal"});
+    SectionPlane plane;
+    plane.point = vec3(required(section, "point", "a point on the plane [x, y, z], m"));
+    const Located normal = required(section, "normal", "the plane's normal [x, y, z]");
+    plane.normal = vec3(normal);
+    if (!(plane.normal.norm() > 0))
+      fail(normal, "must be a non-zero vector");
+    plane.normal.normalize();
+    spec.section = plane;
+  }
   return spec;
 }
 
@@ -901,10 +977,8 @@ std::vector<MaterialSpec> Reader::read_materials(const YAML::Node& node) const {
   return out;
 }
 
-Case Reader::read(const YAML::Node& node) const {
-  const Located root{node, ""};
-  check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
-                   "attach", "contact", "fem", "sph", "output"});
+// name, time and materials: what every case has.
+Case Reader::common(const Located& root) const {
   Case c;
   const Located name = required(root, "name", "case name");
   c.name = text(name);
@@ -914,6 +988,95 @@ Case Reader::read(const YAML::Node& node) const {
   for (const Entry& entry :
        named_entries(required(root, "materials", "materials by name"), "material"))
     c.materials.push_back(material(entry));
+  return c;
+}
+
+// fem, sph and output: the options every case may have.
+void Reader::options(const Located& root, Case& c) const {
+  if (const Located section = child(root, "fem"); section.node.IsDefined())
+    c.fem = fem(section);
+  if (const Located section = child(root, "sph"); section.node.IsDefined())
+    c.sph = sph(section);
+  if (const Located section = child(root, "output"); section.node.IsDefined())
+    c.output = output(section);
+}
+
+// scene: plate_impact (solver/io/plate_impact.hpp): the plate, core and projectile blocks
+// become bodies, couplings and boundary conditions.
+Case Reader::plate_impact(const Located& root) const {
+  check_map(root, {"name", "scene", "preset", "symmetry", "time", "materials", "plate", "core",
+                   "projectile", "probes", "fem", "sph", "output"});
+  Case c = common(root);
+  options(root, c);
+  Names material_names;
+  for (const MaterialSpec& material : c.materials)
+    material_names.push_back(material.name);
+  PlateImpactSpec s;
+  if (const Located preset = child(root, "preset"); preset.node.IsDefined())
+    s.preset = one_of(preset, {"coarse", "standard", "fine"}, "preset");
+  if (const Located symmetry = child(root, "symmetry"); symmetry.node.IsDefined())
+    s.quarter = choice<bool>(symmetry, "symmetry", {{"quarter", true}, {"none", false}});
+
+  const Located plate = required(root, "plate", "thickness, clamped_diameter, material");
+  check_map(plate, {"thickness", "clamped_diameter", "rim_element_size", "material"});
+  s.thickness = number(required(plate, "thickness", "plate thickness, m"), "> 0 m", positive);
+  s.clamped_diameter = number(required(plate, "clamped_diameter", "diameter of the clamped rim, m"),
+                              "> 0 m", positive);
+  s.rim_element_size =
+      number_or(plate, "rim_element_size", 0.0, ">= 0 m (0: square elements)", non_negative);
+  s.plate_material =
+      one_of(required(plate, "material", "name of a material"), material_names, "material");
+
+  const Located core = required(root, "core", "half_width of the SPH core");
+  check_map(core, {"half_width", "spacing", "h_factor"});
+  s.core_half_width = number(required(core, "half_width", "half-width of the square SPH core, m"),
+                             "> 0 m", positive);
+  if (const Located spacing = child(core, "spacing"); spacing.node.IsDefined())
+    s.spacing = number(spacing, "> 0 m", positive);
+  s.core_h_factor = number_or(core, "h_factor", s.core_h_factor, "in [1.0, 2.0]",
+                              [](double v) { return v >= h_factor_low && v <= h_factor_high; });
+
+  const Located projectile =
+      required(root, "projectile", "diameter, length, material, velocity, contact");
+  check_map(projectile, {"diameter", "length", "nose", "material", "velocity", "gap",
+                         "element_size", "h_factor", "contact"});
+  s.diameter = number(required(projectile, "diameter", "m"), "> 0 m", positive);
+  s.length = number(required(projectile, "length", "m"), "> 0 m", positive);
+  if (const Located nose = child(projectile, "nose"); nose.node.IsDefined())
+    one_of(nose, {"blunt"}, "nose shape (only blunt is modelled)");
+  s.projectile_material =
+      one_of(required(projectile, "material", "name of a material"), material_names, "material");
+  s.velocity = number(required(projectile, "velocity", "impact speed towards the plate, m/s"),
+                      ">= 0 m/s (positive towards the plate)", non_negative);
+  if (const Located gap = child(projectile, "gap"); gap.node.IsDefined())
+    s.gap = number(gap, "> 0 m", positive);
+  if (const Located size = child(projectile, "element_size"); size.node.IsDefined())
+    s.element_size = number(size, "> 0 m", positive);
+  s.projectile_h_factor = number_or(projectile, "h_factor", s.projectile_h_factor, "> 0", positive);
+  const Located contact = required(projectile, "contact", "penalty (Pa) and exponent");
+  check_map(contact, {"penalty", "exponent"});
+  s.penalty = number(required(contact, "penalty", "penalty pressure K, Pa"), "> 0 Pa", positive);
+  s.exponent = number_or(contact, "exponent", s.exponent, "> 0", positive);
+
+  try {
+    expand_plate_impact(s, c);
+  } catch (const Error& e) {
+    fail(root, "scene plate_impact", e.what());
+  }
+  if (const Located list = child(root, "probes"); list.node.IsDefined())
+    c.probes = probes(list, c);
+  return c;
+}
+
+Case Reader::read(const YAML::Node& node) const {
+  const Located root{node, ""};
+  if (const Located scene = child(root, "scene"); scene.node.IsDefined()) {
+    one_of(scene, {"plate_impact"}, "scene");
+    return plate_impact(root);
+  }
+  check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
+                   "attach", "contact", "fem", "sph", "output"});
+  Case c = common(root);
   for (const Entry& entry : named_entries(required(root, "bodies", "bodies by name"), "body"))
     c.bodies.push_back(body(entry, c.materials));
   if (const Located list = child(root, "boundary_conditions"); list.node.IsDefined())
@@ -928,12 +1091,7 @@ Case Reader::read(const YAML::Node& node) const {
     c.attachments = attachments(list, c);
   if (const Located list = child(root, "contact"); list.node.IsDefined())
     c.contacts = contacts(list, c);
-  if (const Located section = child(root, "fem"); section.node.IsDefined())
-    c.fem = fem(section);
-  if (const Located section = child(root, "sph"); section.node.IsDefined())
-    c.sph = sph(section);
-  if (const Located section = child(root, "output"); section.node.IsDefined())
-    c.output = output(section);
+  options(root, c);
   return c;
 }
 

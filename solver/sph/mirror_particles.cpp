@@ -3,14 +3,15 @@
 #include "solver/core/error.hpp"
 
 #include <cmath>
+#include <optional>
 
 namespace sphfem {
 
 namespace {
 
-// The box face `face` of `body` (the reader allows particle faces on boxes only): a point on
-// it and its outward normal.
-std::pair<Vec3, Vec3> face_plane(const BodySpec& body, const std::string& face) {
+// The flat face `face` of `body`, if it is a plane: a point on it and its outward normal. Box
+// faces, and the cut faces xmin and ymin of a quarter cylinder or ring (through its axis).
+std::optional<std::pair<Vec3, Vec3>> flat_face(const BodySpec& body, const std::string& face) {
   const GeometrySpec& g = body.geometry;
   if (g.kind == GeometrySpec::Kind::Box) {
     const char* names[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
@@ -20,18 +21,27 @@ std::pair<Vec3, Vec3> face_plane(const BodySpec& body, const std::string& face) 
         const bool max = k % 2 == 1;
         Vec3 normal = Vec3::Zero();
         normal[axis] = max ? 1.0 : -1.0;
-        return {max ? g.box.max : g.box.min, normal};
+        return std::pair{max ? g.box.max : g.box.min, normal};
       }
   }
-  throw Error("boundary_conditions: symmetry on " + body.name + "/" + face +
-              ": particles take symmetry planes only on box faces");
+  const bool quarter_cylinder =
+      g.kind == GeometrySpec::Kind::Cylinder && g.cylinder.sector == Sector::Quarter;
+  const bool quarter_ring = g.kind == GeometrySpec::Kind::Ring && g.ring.sector == Sector::Quarter;
+  if (quarter_cylinder || quarter_ring) {
+    const Vec3& axis_point = quarter_cylinder ? g.cylinder.base : g.ring.base;
+    if (face == "xmin")
+      return std::pair{axis_point, Vec3(-Vec3::UnitX())};
+    if (face == "ymin")
+      return std::pair{axis_point, Vec3(-Vec3::UnitY())};
+  }
+  return std::nullopt;
 }
 
 } // namespace
 
 MirrorParticles::MirrorParticles(const Case& c) {
   const std::vector<int> group = c.body_groups();
-  // An FE box in a contact pair carries background particles on its surface: its symmetry
+  // An FE body in a contact pair carries background particles on its surface: its symmetry
   // planes mirror them too, so that the other body of the pair meets the whole surface at the
   // plane (else the contact near a quarter model's planes is one-sided).
   const auto in_contact = [&c](const std::string& name) {
@@ -41,14 +51,16 @@ MirrorParticles::MirrorParticles(const Case& c) {
     return false;
   };
   for (const auto& bc : c.boundary_conditions) {
+    if (bc.type != BoundaryType::Symmetry)
+      continue;
     const int body = c.body_index(bc.body);
     const BodySpec& spec = c.bodies[body];
-    const bool mirrored = spec.method == Method::Sph ||
-                          (in_contact(spec.name) && spec.geometry.kind == GeometrySpec::Kind::Box);
-    if (bc.type != BoundaryType::Symmetry || !mirrored)
-      continue;
-    const auto [point, normal] = face_plane(c.bodies[body], bc.face);
-    planes_.push_back({group[body], point, normal});
+    const auto plane = flat_face(spec, bc.face);
+    if (spec.method == Method::Sph && !plane)
+      throw Error("boundary_conditions: symmetry on " + spec.name + "/" + bc.face +
+                  ": particles take symmetry planes only on box faces");
+    if (plane && (spec.method == Method::Sph || in_contact(spec.name)))
+      planes_.push_back({group[body], plane->first, plane->second});
   }
 }
 

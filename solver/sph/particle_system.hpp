@@ -62,6 +62,7 @@ public:
   // Current index of the particle that model.h5 lists at `id`.
   Index index_of(Index id) const { return index_of_id_[id]; }
   long long rebuilds() const { return rebuilds_; }
+  const NeighbourList& neighbours() const { return search_.list(); }
 
 private:
   void rebuild();

@@ -171,7 +171,13 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
   for (Index i = 0; i < n; ++i) {
     const Material& mat = materials[p.material_p[i]];
     const double rho_old = p.rho_p[i];
-    const double rho = rho_old + dt * p.drho_p[i];
+    double rho = rho_old + dt * p.drho_p[i];
+    // A particle killed in tension is the face of a crack: it does not expand with the parting
+    // pieces (its density would fall without bound, and its h — and with the largest h every
+    // particle's neighbour reach — grow without bound); it only sees compression, which brings
+    // it back into the sums when the crack closes.
+    if (p.out_of_sums(i))
+      rho = std::max(rho, rho_old);
     if (!(rho > 0)) {
       first_bad = std::min(first_bad, i);
       continue;

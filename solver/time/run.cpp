@@ -98,6 +98,14 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   log.line("case " + c.name + ": " + std::to_string(nodes) + " nodes, " + std::to_string(elements) +
            " hexahedra, " + std::to_string(particles) + " particles; " +
            std::to_string(thread_count()) + " threads");
+  if (const ParticleSystem& sph = sim.particle_system(); !sph.empty()) {
+    const Particles& p = sph.particles();
+    const Index rows = p.rows(), images = p.total() - rows;
+    log.line("SPH sums: " + std::to_string(p.size()) + " particles, " +
+             std::to_string(rows - p.size()) + " background particles, " + std::to_string(images) +
+             " mirror images; " + std::to_string(sph.neighbours().pair_count() / 2) +
+             " neighbour pairs");
+  }
   log.line("stable step " + format("%.4e", dt0) + " s, about " +
            format("%.0f", std::ceil(c.time.end / dt0)) +
            " steps to t = " + format("%.4e", c.time.end) + " s");
@@ -180,6 +188,16 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   for (const auto& p : probes)
     summary["probes"][p.name] = {{p.on_particle ? "particle" : "node", p.node},
                                  {"position", {p.position.x(), p.position.y(), p.position.z()}}};
+  if (const auto& plane = c.output.section)
+    summary["section_plane"] = {
+        {"point", {plane->point.x(), plane->point.y(), plane->point.z()}},
+        {"normal", {plane->normal.x(), plane->normal.y(), plane->normal.z()}}};
+  if (const auto& scene = c.scene)
+    summary["scene"] = {{"name", scene->name},
+                        {"preset", scene->preset},
+                        {"symmetry", scene->quarter ? "quarter" : "none"},
+                        {"spacing", scene->spacing},
+                        {"projectile", {{"velocity", scene->velocity}}}};
   summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
   write_text_atomically(out / "summary.json", summary.dump(2) + "\n");

@@ -745,7 +745,7 @@ TEST_F(CaseFiles, RejectsBadGeometryFileEntries) {
                         read_case(case_file("{file: shapes/ball.geo, box: {min: [0, 0, 0], "
                                             "max: [1, 1, 1]}}"));
                       }),
-                      where + ": ", "must have exactly one of: box, cylinder, file"));
+                      where + ": ", "must have exactly one of: box, cylinder, ring, file"));
 }
 
 TEST_F(CaseFiles, RejectsGeometryFileForFemBody) {

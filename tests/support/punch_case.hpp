@@ -15,7 +15,7 @@ inline std::string punch_case(double plate_half, double block_half, double block
                               bool quarter = false) {
   const std::string materials = std::string(SPHFEM_SOURCE_DIR) + "/cases/materials/";
   const auto n = [](double v) { return std::to_string(v); };
-  const auto low = [&](double half) { return quarter ? std::string("0") : "-" + n(half); };
+  const auto low = [&](double half) { return quarter ? std::string("0") : n(-half); };
   return "name: punch\n"
          "time: {end: 1.5e-5, cfl: 0.5, output_interval: 5.0e-6, history_interval: 1.0e-7}\n"
          "materials:\n"

@@ -1,0 +1,62 @@
+// The plate perforation scene (`scene: plate_impact`, DESIGN.md "Case file"): a blunt
+// cylindrical projectile strikes the centre of a circular plate clamped at its rim. The case
+// states a few physical parameters; expand_plate_impact() turns them into ordinary bodies,
+// couplings and boundary conditions (METHOD.md §4):
+//   plate_core  SPH box |x|, |y| ≤ a through the thickness, lattice on nodes (spacing Δp);
+//   plate_ring  FE ring around it (RingGeometry), Δp at the core, graded to the clamped rim;
+//               attached to plate_core (its interface nodes coincide with the lattice's);
+//   projectile  FE cylinder, its base `gap` above the plate, velocity −v ẑ; in contact with
+//               plate_core;
+//   plate_ring/rim fixed; symmetry quarter: the three bodies cut at x = 0 and y = 0 with
+//               symmetry conditions there (mirror particles for SPH, rollers for FE).
+// The plate's impact face is z = 0, its back face z = −thickness; the impact axis is −z.
+// Resolution presets set Δp (the core spacing, the ring's size at the core and the projectile's
+// element size): coarse 2 mm, standard 1 mm, fine 0.75 mm; an explicit core.spacing or
+// projectile.element_size wins. Verified by tests/io/plate_impact_test.cpp.
+#pragma once
+
+#include "solver/io/case.hpp"
+
+#include <optional>
+#include <string>
+
+namespace sphfem {
+
+struct PlateImpactSpec {
+  std::string preset = "standard"; // coarse, standard or fine
+  bool quarter = false;            // symmetry: quarter
+  // plate
+  double thickness = 0, clamped_diameter = 0; // m
+  double rim_element_size = 0;                // m, 0: square elements at the rim
+  std::string plate_material;
+  // SPH core
+  double core_half_width = 0;    // m
+  std::optional<double> spacing; // m, else the preset's
+  double core_h_factor = 1.2;    // h/Δp
+  // projectile
+  double diameter = 0, length = 0;    // m
+  double velocity = 0;                // m/s towards the plate
+  std::optional<double> gap;          // m, else just beyond the contact's reach
+  std::optional<double> element_size; // m, else the preset's
+  double projectile_h_factor = 1.2;   // its contact face's background particles
+  std::string projectile_material;
+  double penalty = 0, exponent = 2; // contact (METHOD.md §4.3)
+};
+
+// The presets' names and spacings, m.
+struct ResolutionPreset {
+  const char* name;
+  double spacing;
+};
+inline constexpr ResolutionPreset resolution_presets[] = {
+    {"coarse", 0.002}, {"standard", 0.001}, {"fine", 0.00075}};
+
+// The spacing of a preset; throws for an unknown name.
+double preset_spacing(const std::string& preset);
+
+// Appends the scene's bodies, attachment, contact pair, boundary conditions and report section
+// and its SceneSpec to `c` (whose materials are read). Throws sphfem::Error for an inconsistent
+// scene, naming the key (e.g. "core.half_width: must exceed the projectile's radius 0.01 m").
+void expand_plate_impact(const PlateImpactSpec& s, Case& c);
+
+} // namespace sphfem

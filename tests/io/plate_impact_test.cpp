@@ -1,0 +1,213 @@
+// Tests of `scene: plate_impact` (solver/io/plate_impact.hpp): the bodies, couplings and
+// conditions it expands into, its presets and overrides, its errors, and — meshed — that the
+// quarter model holds a quarter of the whole one's mass and its interface matches the lattice.
+#include "solver/io/case_reader.hpp"
+#include "solver/io/plate_impact.hpp"
+
+#include "mesher/mesher.hpp"
+#include "solver/core/error.hpp"
+#include "solver/fem/hex8.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace sphfem {
+namespace {
+
+// Børvik's geometry with elastic stand-ins for the materials (the scene does not care).
+const std::string kScene = R"(name: plate
+scene: plate_impact
+preset: coarse
+symmetry: quarter
+time: {end: 1.0e-5, output_interval: 1.0e-6}
+materials:
+  steel: {model: elastic, density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.33}
+  tool: {model: elastic, density: 7838, youngs_modulus: 200e9, poisson_ratio: 0.33}
+plate: {thickness: 0.012, clamped_diameter: 0.5, material: steel}
+core: {half_width: 0.024}
+projectile:
+  diameter: 0.020
+  length: 0.080
+  nose: blunt
+  material: tool
+  velocity: 303.5
+  contact: {penalty: 1.0e11, exponent: 2}
+)";
+
+Case scene(const std::vector<std::string>& overrides = {}) {
+  return read_case_text(kScene, "plate.yaml", overrides);
+}
+
+std::string error_of(const std::vector<std::string>& overrides, const std::string& text = kScene) {
+  try {
+    read_case_text(text, "plate.yaml", overrides);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+const BodySpec& body(const Case& c, const std::string& name) {
+  return c.bodies[static_cast<std::size_t>(c.body_index(name))];
+}
+
+TEST(PlateImpactScene, ExpandsIntoCoreRingAndProjectile) {
+  const Case c = scene();
+  ASSERT_EQ(c.bodies.size(), 3u);
+  const BodySpec& core = body(c, "plate_core");
+  EXPECT_EQ(core.method, Method::Sph);
+  EXPECT_EQ(core.lattice, BodySpec::Lattice::Nodes);
+  EXPECT_EQ(core.spacing, 0.002);
+  EXPECT_TRUE(core.geometry.box.min.isApprox(Vec3(0, 0, -0.012)));
+  EXPECT_TRUE(core.geometry.box.max.isApprox(Vec3(0.024, 0.024, 0)));
+
+  const BodySpec& ring = body(c, "plate_ring");
+  EXPECT_EQ(ring.method, Method::Fem);
+  ASSERT_EQ(ring.geometry.kind, GeometrySpec::Kind::Ring);
+  EXPECT_EQ(ring.geometry.ring.half_width, 0.024);
+  EXPECT_EQ(ring.geometry.ring.radius, 0.25);
+  EXPECT_EQ(ring.geometry.ring.thickness, 0.012);
+  EXPECT_EQ(ring.geometry.ring.sector, Sector::Quarter);
+  EXPECT_EQ(ring.element_size, 0.002);
+
+  const BodySpec& projectile = body(c, "projectile");
+  ASSERT_EQ(projectile.geometry.kind, GeometrySpec::Kind::Cylinder);
+  const CylinderGeometry& g = projectile.geometry.cylinder;
+  EXPECT_EQ(g.radius, 0.01);
+  EXPECT_TRUE(g.axis.isApprox(Vec3(0, 0, 0.08)));
+  // Just beyond the contact's reach h_core + h_projectile = 1.2 · 2 mm + 1.2 · 2 mm.
+  EXPECT_GT(g.base.z(), 0.0048);
+  EXPECT_LT(g.base.z(), 0.0048 + 0.001);
+  EXPECT_TRUE(projectile.velocity.isApprox(Vec3(0, 0, -303.5)));
+
+  ASSERT_EQ(c.attachments.size(), 1u);
+  EXPECT_EQ(c.attachments[0].fem_body, "plate_ring");
+  EXPECT_EQ(c.attachments[0].sph_body, "plate_core");
+  ASSERT_EQ(c.contacts.size(), 1u);
+  EXPECT_EQ(c.contacts[0].penalty, 1.0e11);
+  // Clamped rim, then xmin and ymin symmetry on each of the three bodies.
+  ASSERT_EQ(c.boundary_conditions.size(), 7u);
+  EXPECT_EQ(c.boundary_conditions[0].type, BoundaryType::Fixed);
+  EXPECT_EQ(c.boundary_conditions[0].face, "rim");
+  for (std::size_t k = 1; k < 7; ++k)
+    EXPECT_EQ(c.boundary_conditions[k].type, BoundaryType::Symmetry);
+  ASSERT_TRUE(c.output.section.has_value());
+  EXPECT_TRUE(c.output.section->normal.isApprox(Vec3::UnitY()));
+}
+
+TEST(PlateImpactScene, PresetsOverridesAndTheWholeModel) {
+  for (const ResolutionPreset& preset : resolution_presets) {
+    const Case c = scene({std::string("preset=") + preset.name});
+    EXPECT_EQ(body(c, "plate_core").spacing, preset.spacing) << preset.name;
+    EXPECT_EQ(body(c, "plate_ring").element_size, preset.spacing) << preset.name;
+    EXPECT_EQ(body(c, "projectile").element_size, preset.spacing) << preset.name;
+  }
+  // An explicit spacing wins over the preset.
+  const Case explicit_spacing = scene({"core.spacing=0.0015", "projectile.element_size=0.003"});
+  EXPECT_EQ(body(explicit_spacing, "plate_core").spacing, 0.0015);
+  EXPECT_EQ(body(explicit_spacing, "projectile").element_size, 0.003);
+
+  EXPECT_TRUE(
+      body(scene({"projectile.velocity=250"}), "projectile").velocity.isApprox(Vec3(0, 0, -250)));
+  const Case whole = scene({"symmetry=none"});
+  EXPECT_TRUE(body(whole, "plate_core").geometry.box.min.isApprox(Vec3(-0.024, -0.024, -0.012)));
+  EXPECT_EQ(body(whole, "plate_ring").geometry.ring.sector, Sector::Full);
+  EXPECT_EQ(body(whole, "projectile").geometry.cylinder.sector, Sector::Full);
+  ASSERT_EQ(whole.boundary_conditions.size(), 1u);
+}
+
+TEST(PlateImpactScene, BadScenesAreNamed) {
+  EXPECT_NE(error_of({"preset=medium"}).find("--set preset: preset: unknown preset 'medium'"),
+            std::string::npos)
+      << error_of({"preset=medium"});
+  EXPECT_NE(error_of({"symmetry=half"}).find("symmetry"), std::string::npos);
+  EXPECT_NE(error_of({"core.half_width=0.008"})
+                .find("core.half_width: must exceed the "
+                      "projectile's radius"),
+            std::string::npos)
+      << error_of({"core.half_width=0.008"});
+  EXPECT_NE(error_of({"projectile.gap=0.002"}).find("projectile.gap"), std::string::npos)
+      << error_of({"projectile.gap=0.002"});
+  EXPECT_NE(error_of({"projectile.velocity=-10"}).find("projectile.velocity"), std::string::npos);
+  EXPECT_NE(error_of({"projectile.nose=ogive"}).find("only blunt"), std::string::npos);
+  EXPECT_NE(error_of({"plate.clamped_diameter=0.05"}).find("plate.clamped_diameter"),
+            std::string::npos);
+  EXPECT_NE(error_of({"core.spacing=0.0032"}).find("ends in .5"), std::string::npos)
+      << error_of({"core.spacing=0.0032"});
+  // Bodies are the scene's to make; an unknown scene is named.
+  EXPECT_NE(error_of({"bodies.extra.method=fem"}).find("bodies: unknown key"), std::string::npos)
+      << error_of({"bodies.extra.method=fem"});
+  EXPECT_NE(error_of({"scene=plate"}).find("scene: unknown scene 'plate'"), std::string::npos)
+      << error_of({"scene=plate"});
+}
+
+// Mass of the bodies named: their particles' masses plus ρ0 × their hexahedra's volumes.
+double mass_of(const Case& c, const Model& m, const std::vector<std::string>& bodies) {
+  const auto wanted = [&](int body) {
+    return std::ranges::find(bodies, c.bodies[static_cast<std::size_t>(body)].name) != bodies.end();
+  };
+  double mass = 0;
+  for (std::size_t p = 0; p < m.m_p.size(); ++p)
+    if (wanted(m.body_p[p]))
+      mass += m.m_p[p];
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+    if (!wanted(m.body_e[e]))
+      continue;
+    HexPoints x;
+    for (int a = 0; a < 8; ++a)
+      x[a] = m.x_n[static_cast<std::size_t>(m.hex_e[e][a])];
+    const BodySpec& b = c.bodies[static_cast<std::size_t>(m.body_e[e])];
+    mass += c.material(b.material).density * hex8_gradient(x).volume;
+  }
+  return mass;
+}
+
+TEST(PlateImpactScene, QuarterModelHoldsAQuarterOfTheMass) {
+  const Case quarter = scene(), whole = scene({"symmetry=none"});
+  const Model mq = mesh_case(quarter), mw = mesh_case(whole);
+  const std::vector<std::string> plate{"plate_core", "plate_ring"}, projectile{"projectile"};
+  // Straight-edged hexahedra fill prisms over polygons inscribed in the circles, of area
+  // (N/2) R² sin(2π/N): the plate's rim has N = 8 · 12 sides at 2 mm (less the 48 mm square
+  // hole, which the core fills exactly), the whole projectile's N = 4 · 5, the quarter's 8 · 3
+  // (3 = round(2.5) per 45°).
+  const auto polygon = [](double n, double r) {
+    return 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n);
+  };
+  const double plate_exact = 7850 * polygon(96, 0.25) * 0.012;
+  const double projectile_exact = 7838 * polygon(20, 0.01) * 0.08;
+  EXPECT_NEAR(mass_of(whole, mw, plate), plate_exact, 1e-9 * plate_exact);
+  EXPECT_NEAR(mass_of(whole, mw, projectile), projectile_exact, 1e-9 * projectile_exact);
+  EXPECT_NEAR(mass_of(quarter, mq, projectile), 0.25 * 7838 * polygon(24, 0.01) * 0.08,
+              1e-9 * projectile_exact);
+  // The plate (core and ring meshed alike) is exactly a quarter of the whole one.
+  EXPECT_NEAR(mass_of(quarter, mq, plate), 0.25 * mass_of(whole, mw, plate), 1e-12 * plate_exact);
+}
+
+// The ring's hole nodes coincide with the core's outer lattice nodes, so the mesher ties them
+// (METHOD.md §4.2): every node of plate_ring/inner has a particle at its place.
+TEST(PlateImpactScene, InterfaceMatchesTheLattice) {
+  for (const std::string symmetry : {"quarter", "none"}) {
+    const Case c = scene({"symmetry=" + symmetry});
+    const Model m = mesh_case(c);
+    const auto& inner = m.node_sets.at("plate_ring/inner");
+    ASSERT_FALSE(inner.empty());
+    for (const Index n : inner) {
+      const Vec3& x = m.x_n[static_cast<std::size_t>(n)];
+      const bool matched =
+          std::ranges::any_of(m.x_p, [&](const Vec3& p) { return (p - x).norm() < 1e-9; });
+      ASSERT_TRUE(matched) << symmetry << ": node at " << x.transpose();
+    }
+    // 24 mm / 2 mm = 12 elements per half side, 6 layers: the hole's side nodes.
+    const std::size_t sides = symmetry == "quarter" ? 2 : 4;
+    const std::size_t per_side = symmetry == "quarter" ? 13 : 25;
+    EXPECT_EQ(inner.size(), (sides * per_side - (symmetry == "quarter" ? 1 : 4)) * 7);
+  }
+}
+
+} // namespace
+} // namespace sphfem
