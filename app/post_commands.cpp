@@ -146,7 +146,8 @@ void add_post_plug(CLI::App& post, PlugCommand& c) {
       "Fragments: connected pieces of the target's surviving particles and elements (particles\n"
       "closer than F x spacing, elements through shared nodes); killed particles and eroded\n"
       "elements are debris. The plug is the most massive fragment after the main one moving\n"
-      "along the impact axis (the other bodies' momentum direction in the first frame, else +z).\n"
+      "along the impact axis (the other bodies' momentum direction in the first frame, else +z)\n"
+      "that holds at least N particles and elements (--min-pieces).\n"
       "Writes DIR/plug.json (SI units), DIR/fragments.csv and DIR/plug.png (outlines: convex\n"
       "hulls on a plane containing the impact axis, mm); DIR is -o, else RUN/post. Example:\n"
       "  sphfem post plug out/perforation --time 15e-6");
@@ -156,6 +157,12 @@ void add_post_plug(CLI::App& post, PlugCommand& c) {
   c.app->add_flag("--last", c.last, "the last frame (the default)")->excludes(c.time_option);
   c.app->add_option("--connect", o.connect, "connectivity distance F, in lattice spacings")
       ->capture_default_str();
+  c.app
+      ->add_option("--min-pieces", o.min_pieces,
+                   "N: a plug holds at least N particles and elements (smaller moving pieces "
+                   "are fragments)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   c.app->add_option("-o,--out", o.out_dir, "output folder (default: RUN/post)");
   c.app->add_option("--size", c.size, "image size in pixels, WIDTHxHEIGHT")->capture_default_str();
 }

@@ -300,9 +300,10 @@ FragmentSet find_fragments(const FragmentSource& s, double reach, double spacing
   return set;
 }
 
-int find_plug(const std::vector<Fragment>& fragments, const Vec3& axis) {
+int find_plug(const std::vector<Fragment>& fragments, const Vec3& axis, long long min_pieces) {
   for (std::size_t f = 1; f < fragments.size(); ++f)
-    if (fragments[f].velocity.dot(axis) > 0)
+    if (fragments[f].velocity.dot(axis) > 0 &&
+        fragments[f].particles + fragments[f].elements >= min_pieces)
       return int(f);
   return -1;
 }

@@ -50,9 +50,11 @@ struct FragmentSet {
 FragmentSet find_fragments(const FragmentSource& source, double reach, double spacing,
                            const Vec3& axis);
 
-// The largest fragment after fragments[0] (the main one) whose velocity along `axis` is
-// positive; -1 if none.
-int find_plug(const std::vector<Fragment>& fragments, const Vec3& axis);
+// The largest fragment after fragments[0] (the main one) whose velocity along `axis` is positive
+// and which holds at least `min_pieces` particles and elements (default 27, a 3 × 3 × 3 block:
+// smaller moving pieces — a spalled particle, a few torn from a crack — are not a plug); -1 if
+// none.
+int find_plug(const std::vector<Fragment>& fragments, const Vec3& axis, long long min_pieces = 27);
 
 // A unit vector perpendicular to `axis`: the global axis least aligned with it, made
 // perpendicular (x for an axis along z).

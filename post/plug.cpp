@@ -311,7 +311,7 @@ PlugResult write_plug(const PlugOptions& o) {
   FragmentSet set = find_fragments(source, reach, spacing, r.impact_axis);
   r.fragments = set.fragments;
   r.main = r.fragments.empty() ? -1 : 0;
-  r.plug = find_plug(r.fragments, r.impact_axis);
+  r.plug = find_plug(r.fragments, r.impact_axis, o.min_pieces);
   r.debris_mass = set.debris_mass;
 
   const fs::path dir = o.out_dir.empty() ? o.run / "post" : o.out_dir;

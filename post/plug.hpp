@@ -25,6 +25,7 @@ struct PlugOptions {
   std::string body;              // target body; empty: the only body with particles
   std::optional<double> time;    // s; the frame nearest to it; empty: the last frame
   double connect = 1.5;          // connectivity distance / lattice spacing
+  long long min_pieces = 27;     // particles and elements a plug holds at least
   std::filesystem::path out_dir; // empty: OUT/post
   int width = 900, height = 560;
 };

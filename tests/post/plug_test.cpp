@@ -102,7 +102,8 @@ TEST(Fragments, SeparatedCloudsAreTwoFragmentsWithExactSumsTouchingCloudsOne) {
       expect_same(set.fragments[0], sums(s, 0, split));
       expect_same(set.fragments[1], sums(s, split, s.x_p.size()));
       EXPECT_EQ(find_plug(set.fragments, down), 1);
-      EXPECT_EQ(find_plug(set.fragments, -down), -1); // it moves against that axis
+      EXPECT_EQ(find_plug(set.fragments, -down), -1);    // it moves against that axis
+      EXPECT_EQ(find_plug(set.fragments, down, 28), -1); // 27 particles: below 28 no plug
       EXPECT_EQ(set.fragment_p[0], 0);
       EXPECT_EQ(set.fragment_p[split], 1);
     } else {
@@ -194,7 +195,8 @@ TEST(Fragments, ElementsJoinThroughSharedNodesAndParticlesWithinReach) {
   // An element's mass sits at its centroid, with its nodes' mean velocity.
   EXPECT_NEAR((set.fragments[1].com - Vec3(5.5 * dp, 0.5 * dp, 0.5 * dp)).norm(), 0, 1e-15);
   EXPECT_NEAR(set.fragments[1].velocity.z(), -200, 1e-12);
-  EXPECT_EQ(find_plug(set.fragments, down), 1);
+  EXPECT_EQ(find_plug(set.fragments, down, 1), 1);
+  EXPECT_EQ(find_plug(set.fragments, down), -1); // one element is not a plug of 27 pieces
 
   // A particle 1.2 spacings beyond the lone hexahedron's node joins it; one 2 spacings off does
   // not.
