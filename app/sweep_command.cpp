@@ -116,6 +116,48 @@ std::vector<std::string> overrides_for(const SweepCommandOptions& o, const std::
   return overrides;
 }
 
+// The comma-separated items of `option`'s `text`, trimmed; none may be empty.
+std::vector<std::string> list_of(const std::string& option, const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream s(text);
+  for (std::string item; std::getline(s, item, ',');) {
+    const auto first = item.find_first_not_of(' ');
+    items.push_back(first == std::string::npos
+                        ? ""
+                        : item.substr(first, item.find_last_not_of(' ') - first + 1));
+  }
+  if (text.empty() || text.back() == ',' || std::ranges::count(items, "") > 0)
+    throw Error(option + ": expected comma-separated names, got an empty one in '" + text + "'");
+  return items;
+}
+
+// --reference FILE --reference-columns v0,vr[,other...] [--reference-labels L,...]: the first
+// vr column is the reference the errors are against; the others are comparison series.
+void read_reference(const SweepCommandOptions& o, post::Sweep& sweep) {
+  const std::vector<std::string> columns = list_of("--reference-columns", o.reference_columns);
+  if (columns.size() < 2 || std::ranges::any_of(columns, [&columns](const std::string& c) {
+        return std::ranges::count(columns, c) > 1;
+      }))
+    throw Error("--reference-columns: expected v0,vr[,other...], distinct column names, got '" +
+                o.reference_columns + "'");
+  const std::vector<std::string> vr_columns(columns.begin() + 1, columns.end());
+  std::vector<std::string> labels = vr_columns;
+  if (!o.reference_labels.empty()) {
+    labels = list_of("--reference-labels", o.reference_labels);
+    if (labels.size() != vr_columns.size())
+      throw Error("--reference-labels: expected one label per vr column of --reference-columns (" +
+                  std::to_string(vr_columns.size()) + "), got " + std::to_string(labels.size()) +
+                  " in '" + o.reference_labels + "'");
+  }
+  std::vector<post::ReferenceSeries> series =
+      post::read_ballistic_reference(o.reference, columns.front(), vr_columns);
+  for (std::size_t k = 0; k < series.size(); ++k)
+    series[k].label = labels[k];
+  sweep.reference_file = o.reference;
+  sweep.reference = series.front();
+  sweep.comparisons.assign(series.begin() + 1, series.end());
+}
+
 // Keeps the inner run's stdout and stderr out of the sweep's own while it runs.
 class Captured {
 public:
@@ -206,6 +248,8 @@ std::string command_text(const SweepCommandOptions& o) {
     text += " --set " + s;
   if (!o.reference.empty())
     text += " --reference " + o.reference + " --reference-columns " + o.reference_columns;
+  if (!o.reference_labels.empty())
+    text += " --reference-labels '" + o.reference_labels + "'";
   return text;
 }
 
@@ -220,10 +264,13 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
       "velocities, plug mass). --bisect then halves the bracket between the highest\n"
       "non-perforating and the lowest perforating value until it is at most --tolerance wide.\n"
       "A Recht-Ipson curve vr = a (v0^p - vbl^p)^(1/p) is fitted to the perforating runs.\n"
+      "--reference compares the runs and the fit with one vr column of a CSV file and, from\n"
+      "further vr columns, compares other results (a paper's) with it alike, side by side.\n"
       "Writes DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html. Examples:\n"
       "  sphfem sweep case.yaml --param projectile.velocity=180:310:10 -o sweep\n"
       "  sphfem sweep case.yaml -o sweep --bisect \\\n"
-      "    --reference borvik_12mm_table3.csv --reference-columns v0,exp_vpr\n"
+      "    --reference borvik_12mm_table3.csv --reference-columns v0,exp_vpr,spfem_vpr \\\n"
+      "    --reference-labels 'experiment,paper SPH-FEM'\n"
       "  sphfem sweep punch.yaml -o s --key bodies.projectile.velocity --format '[0,0,-{}]' \\\n"
       "    --values 300,800");
   cmd->add_option("case", o.case_file, "case file (YAML, SI units)")->required();
@@ -255,10 +302,15 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
   cmd->add_option("-j,--threads", o.threads, "OpenMP threads per run (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--reference", o.reference,
-                  "reference curve, CSV with columns v0,vr (m/s) and optionally label");
+                  "reference curve, CSV with columns v0,vr (m/s) and optionally label; an empty "
+                  "cell is no point");
   cmd->add_option("--reference-columns", o.reference_columns,
-                  "the reference's v0 and vr column names")
+                  "v0,vr[,other...]: the v0 column, the reference's vr column, and vr columns of "
+                  "comparison series drawn and compared with the reference as the runs are")
       ->capture_default_str();
+  cmd->add_option("--reference-labels", o.reference_labels,
+                  "one label per vr column of --reference-columns, comma-separated, for the "
+                  "chart and the tables (default: the column names)");
   return cmd;
 }
 
@@ -271,15 +323,10 @@ void run_sweep_command(const SweepCommandOptions& options) {
   sweep.case_file = o.case_file;
   sweep.key = o.key;
   sweep.command = command_text(o);
-  if (!o.reference.empty()) {
-    const auto comma = o.reference_columns.find(',');
-    if (comma == std::string::npos)
-      throw Error("--reference-columns: expected two names, v0,vr, got '" + o.reference_columns +
-                  "'");
-    sweep.reference_file = o.reference;
-    sweep.reference = post::read_ballistic_reference(
-        o.reference, o.reference_columns.substr(0, comma), o.reference_columns.substr(comma + 1));
-  }
+  if (!o.reference.empty())
+    read_reference(o, sweep);
+  else if (!o.reference_labels.empty())
+    throw Error("--reference-labels: only with --reference");
   // Bad keys and values stop the sweep before the first run, with the case reader's message.
   for (const double v : values)
     read_case(o.case_file, overrides_for(o, yaml_value(o, number_text(v))));

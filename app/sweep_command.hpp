@@ -1,7 +1,8 @@
 // `sphfem sweep`: one case run at many values of one key (the impact velocity by default), each
 // run by the `run` subcommand in this process into DIR/run_<key>_<value>, optionally followed
-// by a bisection of the ballistic limit; the runs' results, a Recht–Ipson fit and a reference
-// curve go to DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html (post/sweep.hpp).
+// by a bisection of the ballistic limit; the runs' results, a Recht–Ipson fit, a reference curve
+// and comparison series from the same file (another code's results for the same tests) go to
+// DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html (post/sweep.hpp).
 // Verified by tests/post/sweep_test.cpp.
 #pragma once
 
@@ -26,7 +27,8 @@ struct SweepCommandOptions {
   std::vector<std::string> overrides;
   int threads = 0;
   std::string reference;
-  std::string reference_columns = "v0,vr";
+  std::string reference_columns = "v0,vr"; // v0,vr[,other...]: the reference, then comparisons
+  std::string reference_labels;            // one per vr column; empty: the column names
 };
 
 // Adds the subcommand to `app`, filling `o` when it is parsed.

@@ -66,34 +66,97 @@ nlohmann::json json_number(const std::optional<double>& v) {
   return v ? nlohmann::json(*v) : nlohmann::json();
 }
 
-struct ReferenceError {
-  std::optional<double> run, fit; // this sweep's vr − the reference's, m/s
-};
-
-std::vector<ReferenceError> reference_errors(const Sweep& s) {
-  std::vector<ReferenceError> errors;
-  for (const ReferencePoint& r : s.reference) {
-    ReferenceError e;
-    for (const SweepRun& run : s.runs)
-      if (run.known() && std::abs(run.v0 - r.v0) <= 1e-9 * std::max(1.0, std::abs(r.v0)))
-        e.run = (*run.perforated ? run.residual_projectile.value_or(0) : 0.0) - r.vr;
-    if (s.fit)
-      e.fit = (*s.fit)(r.v0) - r.vr;
-    errors.push_back(e);
-  }
-  return errors;
+// The same impact velocity, to round-off of numbers read back from text.
+bool same_v0(double a, double b) {
+  return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(b));
 }
 
-std::optional<double> rms(const std::vector<ReferenceError>& errors,
-                          std::optional<double> ReferenceError::*member) {
-  double sum = 0;
-  int n = 0;
-  for (const ReferenceError& e : errors)
-    if (const auto& v = e.*member) {
-      sum += *v * *v;
-      ++n;
+// A run's residual velocity: 0 without perforation.
+double run_vr(const SweepRun& r) {
+  return *r.perforated ? r.residual_projectile.value_or(0) : 0.0;
+}
+
+// One row of the reference table. Errors: vr − the reference's vr, m/s.
+struct ReferenceTableRow {
+  double v0 = 0;
+  std::string label;
+  std::optional<double> reference, run;           // vr, m/s
+  std::vector<std::optional<double>> comparisons; // vr, m/s, one per comparison series
+  std::optional<double> error_run, error_fit;
+  std::vector<std::optional<double>> error_comparisons;
+};
+
+// The reference table of write_sweep (sweep.hpp); `runs` sorted by v0.
+std::vector<ReferenceTableRow> reference_rows(const Sweep& s, const std::vector<SweepRun>& runs) {
+  std::vector<ReferenceTableRow> rows;
+  const auto add = [&rows](const ReferencePoint& p) -> ReferenceTableRow& {
+    ReferenceTableRow& r = rows.emplace_back();
+    r.v0 = p.v0;
+    r.label = p.label;
+    return r;
+  };
+  for (const ReferencePoint& p : s.reference.points)
+    add(p).reference = p.vr;
+  for (const ReferenceSeries& c : s.comparisons)
+    for (const ReferencePoint& p : c.points)
+      if (std::ranges::none_of(rows,
+                               [&p](const ReferenceTableRow& r) { return same_v0(p.v0, r.v0); }))
+        add(p);
+  std::ranges::stable_sort(rows, {}, &ReferenceTableRow::v0);
+
+  const auto minus_reference = [](const ReferenceTableRow& r, const std::optional<double>& vr) {
+    return r.reference && vr ? std::optional<double>(*vr - *r.reference) : std::nullopt;
+  };
+  for (ReferenceTableRow& r : rows) {
+    for (const SweepRun& run : runs)
+      if (run.known() && same_v0(run.v0, r.v0))
+        r.run = run_vr(run);
+    r.error_run = minus_reference(r, r.run);
+    if (s.fit)
+      r.error_fit = minus_reference(r, (*s.fit)(r.v0));
+    for (const ReferenceSeries& c : s.comparisons) {
+      const auto p = std::ranges::find_if(
+          c.points, [&r](const ReferencePoint& q) { return same_v0(q.v0, r.v0); });
+      r.comparisons.push_back(p == c.points.end() ? std::nullopt : std::optional<double>(p->vr));
+      r.error_comparisons.push_back(minus_reference(r, r.comparisons.back()));
     }
-  return n > 0 ? std::optional<double>(std::sqrt(sum / n)) : std::nullopt;
+  }
+  return rows;
+}
+
+struct Rms {
+  std::optional<double> value; // m/s; empty without points
+  int points = 0;
+};
+
+// The rms of the errors `error` picks from the rows, over the rows that have one.
+template <class Pick> Rms rms(const std::vector<ReferenceTableRow>& rows, Pick error) {
+  double sum = 0;
+  Rms r;
+  for (const ReferenceTableRow& row : rows)
+    if (const std::optional<double> e = error(row)) {
+      sum += *e * *e;
+      ++r.points;
+    }
+  if (r.points > 0)
+    r.value = std::sqrt(sum / r.points);
+  return r;
+}
+
+// The rms of the run's, the fit's and each comparison's errors.
+struct ReferenceRms {
+  Rms run, fit;
+  std::vector<Rms> comparisons;
+};
+
+ReferenceRms reference_rms(const Sweep& s, const std::vector<ReferenceTableRow>& rows) {
+  ReferenceRms r{rms(rows, [](const ReferenceTableRow& row) { return row.error_run; }),
+                 rms(rows, [](const ReferenceTableRow& row) { return row.error_fit; }),
+                 {}};
+  for (std::size_t k = 0; k < s.comparisons.size(); ++k)
+    r.comparisons.push_back(
+        rms(rows, [k](const ReferenceTableRow& row) { return row.error_comparisons[k]; }));
+  return r;
 }
 
 std::string perforated_text(const SweepRun& r) {
@@ -112,7 +175,7 @@ std::string csv_text(const std::vector<SweepRun>& runs) {
 }
 
 nlohmann::json json_doc(const Sweep& s, const std::vector<SweepRun>& runs,
-                        const std::vector<ReferenceError>& errors) {
+                        const std::vector<ReferenceTableRow>& rows) {
   nlohmann::json j;
   j["case"] = s.case_file;
   j["key"] = s.key;
@@ -144,15 +207,37 @@ nlohmann::json json_doc(const Sweep& s, const std::vector<SweepRun>& runs,
   else
     j["fit"] = nullptr;
   if (!s.reference_file.empty()) {
-    nlohmann::json ref = {{"file", s.reference_file.string()}, {"points", nlohmann::json::array()}};
-    for (std::size_t k = 0; k < s.reference.size(); ++k)
-      ref["points"].push_back({{"v0_m_per_s", s.reference[k].v0},
-                               {"vr_m_per_s", s.reference[k].vr},
-                               {"label", s.reference[k].label},
-                               {"error_run_m_per_s", json_number(errors[k].run)},
-                               {"error_fit_m_per_s", json_number(errors[k].fit)}});
-    ref["rms_error_run_m_per_s"] = json_number(rms(errors, &ReferenceError::run));
-    ref["rms_error_fit_m_per_s"] = json_number(rms(errors, &ReferenceError::fit));
+    const auto json_numbers = [](const std::vector<std::optional<double>>& values) {
+      nlohmann::json list = nlohmann::json::array();
+      for (const std::optional<double>& v : values)
+        list.push_back(json_number(v));
+      return list;
+    };
+    const ReferenceRms summary = reference_rms(s, rows);
+    nlohmann::json ref = {{"file", s.reference_file.string()},
+                          {"column", s.reference.column},
+                          {"label", s.reference.label},
+                          {"comparisons", nlohmann::json::array()},
+                          {"points", nlohmann::json::array()},
+                          {"rms_error_run_m_per_s", json_number(summary.run.value)},
+                          {"common_points_run", summary.run.points},
+                          {"rms_error_fit_m_per_s", json_number(summary.fit.value)},
+                          {"common_points_fit", summary.fit.points}};
+    for (std::size_t k = 0; k < s.comparisons.size(); ++k)
+      ref["comparisons"].push_back(
+          {{"column", s.comparisons[k].column},
+           {"label", s.comparisons[k].label},
+           {"rms_error_m_per_s", json_number(summary.comparisons[k].value)},
+           {"common_points", summary.comparisons[k].points}});
+    for (const ReferenceTableRow& r : rows)
+      ref["points"].push_back({{"v0_m_per_s", r.v0},
+                               {"label", r.label},
+                               {"vr_m_per_s", json_number(r.reference)},
+                               {"run_vr_m_per_s", json_number(r.run)},
+                               {"comparison_vr_m_per_s", json_numbers(r.comparisons)},
+                               {"error_run_m_per_s", json_number(r.error_run)},
+                               {"error_fit_m_per_s", json_number(r.error_fit)},
+                               {"error_comparison_m_per_s", json_numbers(r.error_comparisons)}});
     j["reference"] = ref;
   }
   return j;
@@ -168,14 +253,19 @@ void write_chart(const Sweep& s, const std::vector<SweepRun>& runs, const fs::pa
   for (const SweepRun& r : runs)
     if (r.known()) {
       x.push_back(r.v0);
-      y.push_back(*r.perforated ? r.residual_projectile.value_or(0) : 0.0);
+      y.push_back(run_vr(r));
       v_min = std::min(v_min, r.v0);
       v_max = std::max(v_max, r.v0);
     }
-  for (const ReferencePoint& p : s.reference) {
-    v_min = std::min(v_min, p.v0);
-    v_max = std::max(v_max, p.v0);
-  }
+  const auto span = [&v_min, &v_max](const ReferenceSeries& series) {
+    for (const ReferencePoint& p : series.points) {
+      v_min = std::min(v_min, p.v0);
+      v_max = std::max(v_max, p.v0);
+    }
+  };
+  span(s.reference);
+  for (const ReferenceSeries& c : s.comparisons)
+    span(c);
   if (s.fit && v_max > v_min) {
     std::vector<double> fx, fy;
     constexpr int n = 400;
@@ -187,21 +277,27 @@ void write_chart(const Sweep& s, const std::vector<SweepRun>& runs, const fs::pa
                          format("%.2f", s.fit->p) + ", a " + format("%.3f", s.fit->a),
                      fx, fy, {LineChart::palette(1), 2.0, false});
   }
-  if (!s.reference.empty()) {
-    std::vector<double> rx, ry;
-    for (const ReferencePoint& p : s.reference) {
-      rx.push_back(p.v0);
-      ry.push_back(p.vr);
+  // Largest dots first, so that equal points stay visible: reference, comparisons, runs.
+  const auto add_points = [&chart](const std::string& label, const ReferenceSeries& series,
+                                   const LineStyle& style) {
+    std::vector<double> px, py;
+    for (const ReferencePoint& p : series.points) {
+      px.push_back(p.v0);
+      py.push_back(p.vr);
     }
-    chart.add_series("reference: " + s.reference_file.filename().string(), rx, ry,
-                     {{0, 0, 0}, 0.0, false, 6.0});
-  }
+    chart.add_series(label, px, py, style);
+  };
+  if (!s.reference_file.empty())
+    add_points("reference: " + s.reference.label, s.reference, {{0, 0, 0}, 0.0, false, 6.0});
+  for (std::size_t k = 0; k < s.comparisons.size(); ++k)
+    add_points(s.comparisons[k].label, s.comparisons[k],
+               {LineChart::palette(2 + k), 0.0, false, 5.0});
   chart.add_series("runs", x, y, {LineChart::palette(0), 0.0, false, 4.0});
   write_atomically(png, [&chart](const fs::path& temporary) { chart.write_png(temporary); });
 }
 
 std::string html_text(const Sweep& s, const std::vector<SweepRun>& runs,
-                      const std::vector<ReferenceError>& errors, const fs::path& png) {
+                      const std::vector<ReferenceTableRow>& rows, const fs::path& png) {
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>sphfem sweep: "
     << escape_html(s.case_file)
@@ -215,7 +311,10 @@ std::string html_text(const Sweep& s, const std::vector<SweepRun>& runs,
   h << "<figure><img alt=\"ballistic curve\" src=\"data:image/png;base64," << base64(slurp(png))
     << "\"><figcaption>Residual projectile velocity against impact velocity (" << escape_html(s.key)
     << "): the runs (dots), the Recht–Ipson fit (line)"
-    << (s.reference.empty() ? "" : " and the reference (black)") << ".</figcaption></figure>\n";
+    << (s.reference_file.empty() ? ""
+        : s.comparisons.empty()  ? " and the reference (black)"
+                                 : ", the reference (black) and the comparisons (coloured dots)")
+    << ".</figcaption></figure>\n";
 
   h << "<h2>Fit</h2>\n";
   if (s.fit)
@@ -244,17 +343,45 @@ std::string html_text(const Sweep& s, const std::vector<SweepRun>& runs,
   h << "</table>\n";
 
   if (!s.reference_file.empty()) {
-    h << "<h2>Reference</h2>\n<p>" << escape_html(s.reference_file.string())
-      << ": errors are this sweep's vr − the reference's, from the run at the same v0 and from "
-         "the fit.</p>\n<table><tr><th>v0 (m/s)</th><th>label</th><th>vr (m/s)</th><th>error of "
-         "the run (m/s)</th><th>error of the fit (m/s)</th></tr>\n";
-    for (std::size_t k = 0; k < s.reference.size(); ++k)
-      h << "<tr><td>" << format("%.6g", s.reference[k].v0) << "</td><td>"
-        << escape_html(s.reference[k].label) << "</td><td>" << format("%.1f", s.reference[k].vr)
-        << "</td><td>" << cell(errors[k].run, "%.1f") << "</td><td>" << cell(errors[k].fit, "%.1f")
-        << "</td></tr>\n";
-    h << "<tr><th>rms</th><th></th><th></th><th>" << cell(rms(errors, &ReferenceError::run), "%.2f")
-      << "</th><th>" << cell(rms(errors, &ReferenceError::fit), "%.2f") << "</th></tr></table>\n";
+    const std::string& ref = s.reference.label;
+    const bool labels =
+        std::ranges::any_of(rows, [](const ReferenceTableRow& r) { return !r.label.empty(); });
+    const ReferenceRms summary = reference_rms(s, rows);
+    h << "<h2>Reference</h2>\n<p>" << escape_html(s.reference_file.string()) << ", column "
+      << escape_html(s.reference.column) << " (" << escape_html(ref)
+      << "). Errors are vr − the reference's at its impact velocities: of the run at the same v0 "
+         "(this code), of the fit and of each comparison series from the same file, where both "
+         "have a value.</p>\n<table><tr><th>against "
+      << escape_html(ref) << "</th><th>column</th><th>rms error (m/s)</th><th>points</th></tr>\n";
+    const auto rms_row = [&h](const std::string& who, const std::string& column, const Rms& r) {
+      h << "<tr><td>" << escape_html(who) << "</td><td>" << escape_html(column) << "</td><td>"
+        << cell(r.value, "%.2f") << "</td><td>" << r.points << "</td></tr>\n";
+    };
+    rms_row("this code", "", summary.run);
+    rms_row("Recht–Ipson fit", "", summary.fit);
+    for (std::size_t k = 0; k < s.comparisons.size(); ++k)
+      rms_row(s.comparisons[k].label, s.comparisons[k].column, summary.comparisons[k]);
+    h << "</table>\n<table><tr><th>v0 (m/s)</th>" << (labels ? "<th>label</th>" : "") << "<th>"
+      << escape_html(ref) << " vr (m/s)</th><th>this code vr (m/s)</th>";
+    for (const ReferenceSeries& c : s.comparisons)
+      h << "<th>" << escape_html(c.label) << " vr (m/s)</th>";
+    h << "<th>error of this code (m/s)</th><th>error of the fit (m/s)</th>";
+    for (const ReferenceSeries& c : s.comparisons)
+      h << "<th>error of " << escape_html(c.label) << " (m/s)</th>";
+    h << "</tr>\n";
+    for (const ReferenceTableRow& r : rows) {
+      h << "<tr><td>" << format("%.6g", r.v0) << "</td>"
+        << (labels ? "<td>" + escape_html(r.label) + "</td>" : "") << "<td>"
+        << cell(r.reference, "%.1f") << "</td><td>" << cell(r.run, "%.1f") << "</td>";
+      for (const std::optional<double>& vr : r.comparisons)
+        h << "<td>" << cell(vr, "%.1f") << "</td>";
+      h << "<td>" << cell(r.error_run, "%.1f") << "</td><td>" << cell(r.error_fit, "%.1f")
+        << "</td>";
+      for (const std::optional<double>& e : r.error_comparisons)
+        h << "<td>" << cell(e, "%.1f") << "</td>";
+      h << "</tr>\n";
+    }
+    h << "</table>\n";
   }
   h << "</body></html>\n";
   return h.str();
@@ -290,8 +417,7 @@ std::vector<BallisticPoint> ballistic_points(const std::vector<SweepRun>& runs) 
   std::vector<BallisticPoint> points;
   for (const SweepRun& r : runs)
     if (r.known())
-      points.push_back(
-          {r.v0, *r.perforated ? r.residual_projectile.value_or(0) : 0.0, *r.perforated});
+      points.push_back({r.v0, run_vr(r), *r.perforated});
   return points;
 }
 
@@ -309,17 +435,20 @@ std::optional<double> next_bisection(const std::vector<BallisticPoint>& points, 
   return 0.5 * (below + above);
 }
 
-std::vector<ReferencePoint> read_ballistic_reference(const fs::path& file,
-                                                     const std::string& v0_column,
-                                                     const std::string& vr_column) {
+std::vector<ReferenceSeries> read_ballistic_reference(const fs::path& file,
+                                                      const std::string& v0_column,
+                                                      const std::vector<std::string>& vr_columns) {
   std::ifstream in(file);
   if (!in)
     throw Error(file.string() + ": cannot read the reference curve");
-  std::vector<ReferencePoint> points;
+  std::vector<ReferenceSeries> series;
+  for (const std::string& column : vr_columns)
+    series.push_back({column, column, {}});
   std::string line;
   int number = 0;
   std::vector<std::string> header;
-  std::ptrdiff_t v0_at = -1, vr_at = -1, label_at = -1;
+  std::ptrdiff_t v0_at = -1, label_at = -1;
+  std::vector<std::ptrdiff_t> vr_at;
   while (std::getline(in, line)) {
     ++number;
     const std::string where = file.string() + ":" + std::to_string(number);
@@ -330,53 +459,60 @@ std::vector<ReferencePoint> read_ballistic_reference(const fs::path& file,
       header = cells;
       const auto index = [&](const std::string& name) -> std::ptrdiff_t {
         const auto it = std::ranges::find(header, name);
-        return it == header.end() ? -1 : it - header.begin();
+        if (it == header.end())
+          throw Error("--reference-columns: no column '" + name + "' in the header of " + where +
+                      ", '" + trim(line) + "'");
+        return it - header.begin();
       };
       v0_at = index(v0_column);
-      vr_at = index(vr_column);
-      label_at = index("label");
-      if (v0_at < 0 || vr_at < 0)
-        throw Error(where + ": expected a header with columns '" + v0_column + "' and '" +
-                    vr_column + "' (m/s), got '" + trim(line) + "'");
+      for (const std::string& column : vr_columns)
+        vr_at.push_back(index(column));
+      const auto label = std::ranges::find(header, "label");
+      label_at = label == header.end() ? -1 : label - header.begin();
       continue;
     }
     const auto value = [&](std::ptrdiff_t k) {
-      return k < static_cast<std::ptrdiff_t>(cells.size()) ? cells[k] : std::string();
+      return k >= 0 && k < static_cast<std::ptrdiff_t>(cells.size()) ? cells[k] : std::string();
     };
-    if (value(v0_at).empty() || value(vr_at).empty())
-      continue;
-    ReferencePoint p;
-    for (auto [k, target] : {std::pair{v0_at, &p.v0}, std::pair{vr_at, &p.vr}}) {
+    const auto number_in = [&](std::ptrdiff_t k) {
       std::size_t used = 0;
+      double v = 0;
       try {
-        *target = std::stod(value(k), &used);
+        v = std::stod(value(k), &used);
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used != value(k).size() || !std::isfinite(*target))
+      if (used != value(k).size() || !std::isfinite(v))
         throw Error(where + ": column '" + header[k] + "': expected a number, got '" + value(k) +
                     "'");
-    }
-    p.label = label_at >= 0 ? value(label_at) : "";
-    points.push_back(p);
+      return v;
+    };
+    if (value(v0_at).empty() ||
+        std::ranges::all_of(vr_at, [&](std::ptrdiff_t k) { return value(k).empty(); }))
+      continue;
+    const double v0 = number_in(v0_at);
+    for (std::size_t c = 0; c < series.size(); ++c)
+      if (!value(vr_at[c]).empty())
+        series[c].points.push_back({v0, number_in(vr_at[c]), value(label_at)});
   }
-  if (points.empty())
-    throw Error(file.string() + ": no reference points (columns '" + v0_column + "', '" +
-                vr_column + "')");
-  return points;
+  for (const ReferenceSeries& s : series)
+    if (s.points.empty())
+      throw Error(file.string() + ": no reference points in column '" + s.column +
+                  "' (rows with numbers in '" + v0_column + "' and '" + s.column + "')");
+  return series;
 }
 
 SweepFiles write_sweep(const Sweep& sweep, const fs::path& dir) {
   std::vector<SweepRun> runs = sweep.runs;
   std::ranges::stable_sort(runs, {}, &SweepRun::v0);
-  const std::vector<ReferenceError> errors = reference_errors(sweep);
+  const std::vector<ReferenceTableRow> rows = reference_rows(sweep, runs);
   fs::create_directories(dir);
   const SweepFiles files{dir / "sweep.csv", dir / "sweep.json", dir / "ballistic_curve.png",
                          dir / "sweep.html"};
   write_text_atomically(files.csv, csv_text(runs));
-  write_text_atomically(files.json, json_doc(sweep, runs, errors).dump(2) + "\n");
+  write_text_atomically(files.json, json_doc(sweep, runs, rows).dump(2) + "\n");
   write_chart(sweep, runs, files.png);
-  write_text_atomically(files.html, html_text(sweep, runs, errors, files.png));
+  write_text_atomically(files.html, html_text(sweep, runs, rows, files.png));
   return files;
 }
 

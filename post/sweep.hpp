@@ -1,8 +1,9 @@
 // Ballistic sweeps (`sphfem sweep`, app/sweep_command.hpp): the results of many runs that differ
 // in one case key (the impact velocity), read back from each run's summary.json ("results":
 // perforated, residual velocities of projectile and plug along the impact axis, plug mass), the
-// bisection of the ballistic limit, a reference curve (an experiment) and the tables, chart and
-// page: DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html. A run without those
+// bisection of the ballistic limit, a reference curve (an experiment) with comparison series from
+// the same file (another code's or a paper's results for the same tests), and the tables, chart
+// and page: DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html. A run without those
 // results (an older run, a failed one) is "unknown": listed, never fitted. Velocities in m/s,
 // masses in kg, times in s. Verified by tests/post/sweep_test.cpp.
 #pragma once
@@ -42,22 +43,32 @@ std::optional<double> next_bisection(const std::vector<BallisticPoint>& points, 
 
 struct ReferencePoint {
   double v0 = 0, vr = 0; // m/s
-  std::string label;
+  std::string label;     // the row's `label` cell, if the file has that column
 };
 
-// Reads a reference curve: CSV with a header naming the columns `v0_column` and `vr_column`
-// (m/s) and optionally `label`; # comments; rows with an empty v0 or vr cell are skipped.
-// Errors name the file and line.
-std::vector<ReferencePoint> read_ballistic_reference(const std::filesystem::path& file,
-                                                     const std::string& v0_column = "v0",
-                                                     const std::string& vr_column = "vr");
+// One vr column of a reference file: the rows with a number in it.
+struct ReferenceSeries {
+  std::string column;
+  std::string label; // in the chart's legend and the tables (the column's name unless set)
+  std::vector<ReferencePoint> points;
+};
+
+// Reads reference curves: CSV with a header naming the columns `v0_column` and each of
+// `vr_columns` (m/s) and optionally `label`; # comments. One series per vr column, in order: a
+// row with an empty v0 cell is skipped, one with an empty vr cell is skipped for that column
+// only. Errors name the file and line; a column missing from the header, the option that names
+// it (--reference-columns).
+std::vector<ReferenceSeries>
+read_ballistic_reference(const std::filesystem::path& file, const std::string& v0_column = "v0",
+                         const std::vector<std::string>& vr_columns = {"vr"});
 
 struct Sweep {
   std::string case_file, key, command; // command: the sweep's own command line, for the page
   std::vector<SweepRun> runs;
   std::optional<RechtIpson> fit;
-  std::filesystem::path reference_file; // empty: none
-  std::vector<ReferencePoint> reference;
+  std::filesystem::path reference_file;     // empty: none
+  ReferenceSeries reference;                // the errors are against it
+  std::vector<ReferenceSeries> comparisons; // from the same file, compared with it as the runs are
 };
 
 struct SweepFiles {
@@ -65,8 +76,12 @@ struct SweepFiles {
 };
 
 // Writes DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html, the runs sorted by v0.
-// With a reference: per reference point, the error of the run at the same v0 (if any) and of
-// the fit (if any), and the rms of each.
+// With a reference: a table, ascending in v0, with a row per reference point and per other v0 of
+// a comparison: the vr of the reference, of the run at that v0 (the last known one) and of each
+// comparison (its first point there); at the reference's points the errors (vr − the
+// reference's) of the run, the fit and each comparison that has a value there; and the rms of
+// each over its points with an error, with their number, side by side. A non-perforating run
+// counts as vr = 0.
 SweepFiles write_sweep(const Sweep& sweep, const std::filesystem::path& dir);
 
 } // namespace sphfem::post
