@@ -136,6 +136,7 @@ struct SphSpec {
   bool artificial_viscosity = true;
   double alpha = 1.0; // linear (bulk) coefficient
   double beta = 2.0;  // quadratic coefficient
+  bool balsara = false; // scale Π_ij by the pair's mean Balsara factor (less viscosity in shear)
   bool artificial_stress = true;
   double epsilon = 0.3;       // artificial stress factor
   double stress_exponent = 4; // n in f_ij^n, a positive integer

@@ -918,10 +918,12 @@ SphSpec Reader::sph(const Located& at) const {
                  "gradient_correction", "cfl", "skin"});
   SphSpec spec;
   if (const Located av = child(at, "artificial_viscosity"); av.node.IsDefined()) {
-    spec.artificial_viscosity = term(av, {"alpha", "beta"});
+    spec.artificial_viscosity = term(av, {"alpha", "beta", "balsara"});
     if (av.node.IsMap()) {
       spec.alpha = number_or(av, "alpha", spec.alpha, ">= 0", non_negative);
       spec.beta = number_or(av, "beta", spec.beta, ">= 0", non_negative);
+      if (const Located balsara = child(av, "balsara"); balsara.node.IsDefined())
+        spec.balsara = flag(balsara);
     }
   }
   if (const Located as = child(at, "artificial_stress"); as.node.IsDefined()) {

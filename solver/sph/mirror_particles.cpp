@@ -127,6 +127,7 @@ void MirrorParticles::refresh_stress(Particles& p, Index first) const {
     p.kill_p[g] = p.kill_p[i];
     p.C_p[g] = R * p.C_p[i] * R.transpose();
     p.R_p[g] = R * p.R_p[i] * R.transpose();
+    p.shear_p[g] = p.shear_p[i]; // |∇·v| and |∇×v| are invariant under reflections
     p.f_p[g] = R * p.f_p[i];
   }
 }

@@ -187,6 +187,12 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
       p.h_p[i] = p.h0_p[i] * std::cbrt(p.rho0_p[i] / rho);
     const Mat3& L = p.L_p[i];
     const Mat3 D = 0.5 * (L + L.transpose()), W = 0.5 * (L - L.transpose());
+    if (spec.balsara) {
+      // Balsara (1995): |∇·v| / (|∇·v| + |∇×v| + ε c/h), ε = 1e-4 against 0/0 at rest.
+      const double divergence = std::abs(L.trace());
+      const double curl = Vec3(L(2, 1) - L(1, 2), L(0, 2) - L(2, 0), L(1, 0) - L(0, 1)).norm();
+      p.shear_p[i] = divergence / (divergence + curl + 1e-4 * mat.sound_speed(rho, 0) / p.h_p[i]);
+    }
     const Mat3 sigma_old = total_stress(p, i);
     double pressure = mat.pressure(rho, energy_density(p, mat, i));
     if (mat.inelastic()) {
@@ -266,8 +272,10 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
       if (spec.artificial_viscosity && approach < 0) {
         const double c_j = p.c_p[j];
         const double mu = h_ij * approach / (r * r + 0.01 * h_ij * h_ij);
-        const double Pi =
+        double Pi =
             (-spec.alpha * 0.5 * (c_i + c_j) * mu + spec.beta * mu * mu) / (0.5 * (rho_i + rho_j));
+        if (spec.balsara)
+          Pi *= 0.5 * (p.shear_p[i] + p.shear_p[j]);
         f_ij -= (mm * Pi) * grad;
         heat += 0.5 * mm * Pi * vn_ij.dot(grad);
       }

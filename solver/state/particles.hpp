@@ -47,17 +47,18 @@ struct Particles {
   std::vector<MaterialPoint> point_p; // plastic strain, damage, temperature (inelastic materials)
   std::vector<Kill> kill_p;           // particle kill state
   // Rates and scratch of the current step.
-  std::vector<Vec3> f_p;         // force on the particle, N
-  std::vector<Mat3> L_p;         // velocity gradient, 1/s
-  std::vector<Mat3> C_p;         // gradient correction C = M⁻¹ (identity when off), 1
-  std::vector<Mat3> G_p;         // Σ_j m_j v_ji ⊗ ∇W C = ρ L (stress power), kg/(m³ s)
-  std::vector<double> drho_p;    // dρ/dt, kg/m³/s
-  std::vector<Vec3> xsph_p;      // XSPH velocity correction, m/s
-  std::vector<Vec3> u_p;         // drift velocity of the last step, v + XSPH, m/s
-  std::vector<double> heat_p;    // heating power of artificial viscosity and stress, W
-  std::vector<Vec3> vn_p;        // velocity predicted at the next kick's time, for heat_p, m/s
-  std::vector<Mat3> A_p;         // σ Cᵀ/ρ² for the momentum pair term, Pa m⁶/kg²
-  std::vector<double> c_p;       // sound speed √((K + 4G/3)/ρ), m/s
+  std::vector<Vec3> f_p;      // force on the particle, N
+  std::vector<Mat3> L_p;      // velocity gradient, 1/s
+  std::vector<Mat3> C_p;      // gradient correction C = M⁻¹ (identity when off), 1
+  std::vector<Mat3> G_p;      // Σ_j m_j v_ji ⊗ ∇W C = ρ L (stress power), kg/(m³ s)
+  std::vector<double> drho_p; // dρ/dt, kg/m³/s
+  std::vector<Vec3> xsph_p;   // XSPH velocity correction, m/s
+  std::vector<Vec3> u_p;      // drift velocity of the last step, v + XSPH, m/s
+  std::vector<double> heat_p; // heating power of artificial viscosity and stress, W
+  std::vector<Vec3> vn_p;     // velocity predicted at the next kick's time, for heat_p, m/s
+  std::vector<Mat3> A_p;      // σ Cᵀ/ρ² for the momentum pair term, Pa m⁶/kg²
+  std::vector<double> c_p;    // sound speed √((K + 4G/3)/ρ), m/s
+  std::vector<double> shear_p; // Balsara factor |∇·v|/(|∇·v| + |∇×v|): 1 in compression, 0 in shear
   std::vector<Mat3> R_p;         // artificial stress R_i (METHOD.md §2), Pa m⁶/kg²
   std::vector<int> neighbours_p; // neighbour count (within 2h), for output
   std::vector<Vec3> fc_p;        // contact force on the particle (part of f_p), N
@@ -78,8 +79,8 @@ struct Particles {
     visit(material_p), visit(id_p), visit(point_p), visit(kill_p), visit(f_p), visit(L_p),
         visit(C_p), visit(drho_p), visit(xsph_p);
     visit(u_p), visit(G_p), visit(de_p);
-    visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(R_p), visit(neighbours_p),
-        visit(fc_p), visit(fm_p);
+    visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(shear_p), visit(R_p),
+        visit(neighbours_p), visit(fc_p), visit(fm_p);
   }
 };
 

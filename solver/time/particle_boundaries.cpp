@@ -4,6 +4,7 @@
 #include "solver/sph/surface_traction.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace sphfem {
 
@@ -35,9 +36,26 @@ ParticleBoundaries::ParticleBoundaries(const Case& c, const Model& model) {
     }
   for (const auto& bc : c.boundary_conditions)
     if (on_particles(c, bc.body)) {
-      if (bc.type == BoundaryType::Symmetry)
-        continue; // mirror particles (solver/sph/mirror_particles.hpp)
-      const auto& ids = face(model, bc.body, bc.face).particles;
+      const ParticleFace& f = face(model, bc.body, bc.face);
+      if (bc.type == BoundaryType::Symmetry) {
+        // Mirror particles (solver/sph/mirror_particles.hpp) make the plane; a particle lying on
+        // it (a lattice on nodes) is also held on it: it would repel its own image, which sits
+        // where it does, as soon as it left the plane in compression.
+        const BodySpec& body = c.bodies[c.body_index(bc.body)];
+        Eigen::Index axis = 0;
+        f.normal.cwiseAbs().maxCoeff(&axis);
+        const double plane =
+            (f.normal[axis] > 0 ? body.geometry.box.max : body.geometry.box.min)[axis];
+        Constraint roller{{}, {}, TimeFunction()};
+        roller.velocity[axis] = 0.0;
+        for (const Index id : f.particles)
+          if (std::abs(model.x_p[id][axis] - plane) < 1e-9 * body.spacing)
+            roller.ids.push_back(id);
+        if (!roller.ids.empty())
+          constraints_.push_back(std::move(roller));
+        continue;
+      }
+      const auto& ids = f.particles;
       if (bc.type == BoundaryType::Fixed)
         constraints_.push_back({ids, {0.0, 0.0, 0.0}, TimeFunction()});
       else

@@ -3,8 +3,9 @@
 // the force −p w_i n, w_i its share of the face area from surface_traction.hpp (consistent
 // with the SPH momentum equation; n the face's outward normal, that of the initial face, not a
 // follower load), and fixed / prescribed-velocity conditions set the face particles'
-// velocities. Applied right after the particles' kick; returns the work and impulse of loads
-// and reactions for the energy and momentum balances.
+// velocities. A symmetry plane (mirror particles) holds the particles lying on it (lattice on
+// nodes) to it: their normal velocity is zero. Applied right after the particles' kick; returns
+// the work and impulse of loads and reactions for the energy and momentum balances.
 // Verified by tests/sph/particle_boundaries_test.cpp and the bar_pressed_sph case.
 #pragma once
 

@@ -19,7 +19,7 @@
 namespace sphfem {
 namespace {
 
-// Børvik's geometry with elastic stand-ins for the materials (the scene does not care).
+// Børvik's geometry with elastic stand-ins for the materials (the scene does not care), at 2 mm.
 const std::string kScene = R"(name: plate
 scene: plate_impact
 preset: coarse
@@ -29,12 +29,13 @@ materials:
   steel: {model: elastic, density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.33}
   tool: {model: elastic, density: 7838, youngs_modulus: 200e9, poisson_ratio: 0.33}
 plate: {thickness: 0.012, clamped_diameter: 0.5, material: steel}
-core: {half_width: 0.024}
+core: {half_width: 0.024, spacing: 0.002}
 projectile:
   diameter: 0.020
   length: 0.080
   nose: blunt
   material: tool
+  element_size: 0.002
   velocity: 303.5
   contact: {penalty: 1.0e11, exponent: 2}
 )";
@@ -101,8 +102,12 @@ TEST(PlateImpactScene, ExpandsIntoCoreRingAndProjectile) {
 }
 
 TEST(PlateImpactScene, PresetsOverridesAndTheWholeModel) {
+  // Without explicit sizes the preset decides.
+  std::string text = kScene;
+  for (const std::string given : {", spacing: 0.002", "  element_size: 0.002\n"})
+    text.erase(text.find(given), given.size());
   for (const ResolutionPreset& preset : resolution_presets) {
-    const Case c = scene({std::string("preset=") + preset.name});
+    const Case c = read_case_text(text, "plate.yaml", {std::string("preset=") + preset.name});
     EXPECT_EQ(body(c, "plate_core").spacing, preset.spacing) << preset.name;
     EXPECT_EQ(body(c, "plate_ring").element_size, preset.spacing) << preset.name;
     EXPECT_EQ(body(c, "projectile").element_size, preset.spacing) << preset.name;
