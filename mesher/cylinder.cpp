@@ -1,12 +1,11 @@
-// Structured hex mesh of a cylinder: an O-grid disk (square core + 4 ring blocks) extruded
-// along local z into 5 transfinite, recombined blocks, then placed on the axis; faces base,
-// top, side. A quarter (axis along +z only) is an O-grid of the quadrant x, y ≥ base: the core
-// square [0, c]² and the two ring blocks between 0°–45° and 45°–90°, 3 blocks; faces base, top,
-// side, xmin (x = base.x), ymin (y = base.y). Its mesh is not in general the quadrant of the
-// full cylinder's, whose blocks end at 45°, 135°, … c = R/2. Counts: n_q elements along each
-// core side and each rim arc (full: n_q = max(1, round(2c / h)) per core side and 90° arc;
-// quarter: round(c / h) per half side and 45° arc), radially round((R − c(1 + √2)/2) / h), along
-// the axis round(L/h), each at least 1. Verified by tests/mesher/mesher_test.cpp.
+// Structured hex mesh of a cylinder: an O-grid disk extruded along local z into transfinite,
+// recombined blocks, then placed on the axis; faces base, top, side. The disk is four quadrants,
+// each the core square [0, c]² (c = R/2) turned into it and two ring blocks over its 45° halves
+// (12 blocks); a quarter (axis along +z only) is the first quadrant alone, x, y ≥ base (3 blocks),
+// with faces xmin (x = base.x) and ymin (y = base.y) as well, and its mesh is exactly the
+// quadrant of the whole cylinder's. Counts: n = round(c / h) elements along each core half-side
+// and each 45° rim arc, radially round((R − c(1 + √2)/2) / h), along the axis round(L/h), each at
+// least 1. Verified by tests/mesher/mesher_test.cpp.
 #include "mesher/gmsh_body.hpp"
 #include "solver/core/error.hpp"
 
@@ -39,63 +38,48 @@ OGrid plan(const CylinderGeometry& g, double h) {
   o.quarter = g.sector == Sector::Quarter;
   // Core elements of size h (the arcs' are π/4 · R / c ≈ 1.57 times longer): the core sets the
   // stable time step, and the flat nose that meets the target is mostly core.
-  o.along = divisions((o.quarter ? 1.0 : 2.0) * o.core, h);
+  o.along = divisions(o.core, h);
   // The ring is R − a thick at mid-side and R − a√2 at the core's corners: use the mean.
   o.radial = divisions(g.radius - 0.5 * (1 + std::numbers::sqrt2) * o.core, h);
   o.layers = divisions(o.length, h);
   return o;
 }
 
-// The disk at z = 0 as five quadrilateral surfaces (core and ring blocks), loops
-// counter-clockwise about +z.
-std::vector<int> build_disk(const OGrid& o) {
-  static constexpr std::array<double, 4> sx{1, -1, -1, 1}, sy{1, 1, -1, -1}; // 45°, 135°, …
-  const double rim = o.radius / std::numbers::sqrt2;
+// The disk at z = 0 as `quadrants` (4: whole, 1: the quarter x, y ≥ 0) counter-clockwise from
+// +x, each three quadrilateral surfaces: the core square [0, c]² turned into it and the ring
+// blocks over its first and second 45°; neighbouring quadrants share their points and curves on
+// the axis between them. So the whole disk is four copies of the quarter, turned, and a quarter
+// model's mesh is exactly the quadrant of the whole one's. Loops counter-clockwise about +z.
+std::vector<int> build_disk(const OGrid& o, int quadrants) {
+  const double c = o.core, r = o.radius, d = 1 / std::numbers::sqrt2;
+  static constexpr std::array<double, 4> cx{1, 0, -1, 0}, cy{0, 1, 0, -1}; // 0°, 90°, …
   const int centre = geo::addPoint(0, 0, 0);
-  std::array<int, 4> corner{}, outer{};
-  for (int k = 0; k < 4; ++k) {
-    corner[k] = geo::addPoint(sx[k] * o.core, sy[k] * o.core, 0);
-    outer[k] = geo::addPoint(sx[k] * rim, sy[k] * rim, 0);
+  const int rays = quadrants == 4 ? 4 : 2; // the axes bounding the quadrants
+  std::array<int, 4> core_on_axis{}, rim_on_axis{}, centre_line{}, axis_spoke{};
+  for (int k = 0; k < rays; ++k) {
+    core_on_axis[k] = geo::addPoint(c * cx[k], c * cy[k], 0);
+    rim_on_axis[k] = geo::addPoint(r * cx[k], r * cy[k], 0);
+    centre_line[k] = geo::addLine(centre, core_on_axis[k]);
+    axis_spoke[k] = geo::addLine(core_on_axis[k], rim_on_axis[k]);
   }
-  std::array<int, 4> side{}, spoke{}, arc{};
-  for (int k = 0; k < 4; ++k) {
-    const int next = (k + 1) % 4;
-    side[k] = geo::addLine(corner[k], corner[next]);
-    spoke[k] = geo::addLine(corner[k], outer[k]);
-    arc[k] = geo::addCircleArc(outer[k], centre, outer[next]);
-  }
-  std::vector<int> surfaces{
-      geo::addPlaneSurface({geo::addCurveLoop({side[0], side[1], side[2], side[3]})})};
-  for (int k = 0; k < 4; ++k) {
-    const int next = (k + 1) % 4;
-    surfaces.push_back(
-        geo::addPlaneSurface({geo::addCurveLoop({spoke[k], arc[k], -spoke[next], -side[k]})}));
-  }
-  return surfaces;
-}
-
-// The quarter disk x, y ≥ 0 at z = 0: the core square [0, c]² and the ring blocks 0°–45° and
-// 45°–90°, loops counter-clockwise about +z.
-std::vector<int> build_quarter_disk(const OGrid& o) {
-  const double c = o.core, diagonal = o.radius / std::numbers::sqrt2;
-  const int centre = geo::addPoint(0, 0, 0);
-  const std::array<int, 3> corner{geo::addPoint(c, 0, 0), geo::addPoint(c, c, 0),
-                                  geo::addPoint(0, c, 0)};
-  const std::array<int, 3> outer{geo::addPoint(o.radius, 0, 0),
-                                 geo::addPoint(diagonal, diagonal, 0),
-                                 geo::addPoint(0, o.radius, 0)};
-  std::array<int, 3> spoke{};
-  for (int k = 0; k < 3; ++k)
-    spoke[k] = geo::addLine(corner[k], outer[k]);
-  const std::array<int, 2> side{geo::addLine(corner[0], corner[1]),
-                                geo::addLine(corner[1], corner[2])};
-  const int core = geo::addPlaneSurface({geo::addCurveLoop(
-      {geo::addLine(centre, corner[0]), side[0], side[1], geo::addLine(corner[2], centre)})});
-  std::vector<int> surfaces{core};
-  for (int k = 0; k < 2; ++k) {
-    const int arc = geo::addCircleArc(outer[k], centre, outer[k + 1]);
-    surfaces.push_back(
-        geo::addPlaneSurface({geo::addCurveLoop({spoke[k], arc, -spoke[k + 1], -side[k]})}));
+  std::vector<int> surfaces;
+  for (int k = 0; k < quadrants; ++k) {
+    const int next = (k + 1) % rays;
+    // The quadrant's corner and its diagonal point on the rim: (c, c) and (r, r)/√2 turned.
+    const double ux = cx[k] - cy[k], uy = cy[k] + cx[k];
+    const int corner = geo::addPoint(c * ux, c * uy, 0);
+    const int rim = geo::addPoint(r * d * ux, r * d * uy, 0);
+    const int side_a = geo::addLine(core_on_axis[k], corner);
+    const int side_b = geo::addLine(corner, core_on_axis[next]);
+    const int diagonal_spoke = geo::addLine(corner, rim);
+    const int arc_a = geo::addCircleArc(rim_on_axis[k], centre, rim);
+    const int arc_b = geo::addCircleArc(rim, centre, rim_on_axis[next]);
+    surfaces.push_back(geo::addPlaneSurface(
+        {geo::addCurveLoop({centre_line[k], side_a, side_b, -centre_line[next]})}));
+    surfaces.push_back(geo::addPlaneSurface(
+        {geo::addCurveLoop({axis_spoke[k], arc_a, -diagonal_spoke, -side_a})}));
+    surfaces.push_back(geo::addPlaneSurface(
+        {geo::addCurveLoop({diagonal_spoke, arc_b, -axis_spoke[next], -side_b})}));
   }
   return surfaces;
 }
@@ -159,7 +143,7 @@ void name_faces(const std::string& body, const OGrid& o) {
     else
       side.push_back(surface);
   }
-  const std::size_t blocks = o.quarter ? 3 : 5, arcs = o.quarter ? 2 : 4, cut = o.quarter ? 2 : 0;
+  const std::size_t blocks = o.quarter ? 3 : 12, arcs = o.quarter ? 2 : 8, cut = o.quarter ? 2 : 0;
   SPHFEM_CHECK(base.size() == blocks && top.size() == blocks && side.size() == arcs &&
                    xmin.size() == cut && ymin.size() == cut,
                "unexpected cylinder boundary (", base.size(), " base, ", top.size(), " top, ",
@@ -199,7 +183,7 @@ Placement build_cylinder(const BodySpec& body) {
   const OGrid o = plan(g, body.element_size);
 
   gmsh::vectorpair disk, extruded;
-  for (const int s : quarter ? build_quarter_disk(o) : build_disk(o))
+  for (const int s : build_disk(o, quarter ? 1 : 4))
     disk.emplace_back(2, s);
   geo::extrude(disk, 0, 0, o.length, extruded);
   geo::synchronize();

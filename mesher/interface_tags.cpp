@@ -2,8 +2,9 @@
 // - attachment (FE body f, SPH body s, METHOD.md §4.2): every node of f closer than 2·h_s to a
 //   particle of s gets a background particle with s's h_s = h_factor·Δp and spacing Δp;
 // - contact pair (METHOD.md §4.3): each FE body of the pair gives its surface nodes (on hexahedron
-//   faces that belong to one element only) a background particle with h = h_factor·element_size
-//   and spacing element_size, unless an attachment tagged the node (attachment values win);
+//   faces that belong to one element only, its symmetry faces excepted: the body goes on beyond
+//   them) a background particle with h = h_factor·element_size and spacing element_size, unless
+//   an attachment tagged the node (attachment values win);
 // - a node that several attachments tag keeps the largest h (then the largest spacing), so the
 //   order of the case's lists does not matter;
 // - interface_p[i] = 1 if some background particle b has |x_i − x_b| < h_i + h_b (= 2·h_ij).
@@ -54,8 +55,19 @@ void tag_attachment(const Model& m, const BodySpec& sph, int fem, int sph_id,
   }
 }
 
-void tag_contact_body(const Model& m, const BodySpec& body, int id, std::vector<Tag>& tags) {
-  for (const Index n : surface_nodes(m, id))
+// The quads of the body's faces that carry a symmetry condition.
+std::vector<Quad> symmetry_faces(const Model& m, const Case& c, const std::string& body) {
+  std::vector<Quad> quads;
+  for (const BoundaryConditionSpec& bc : c.boundary_conditions)
+    if (bc.type == BoundaryType::Symmetry && bc.body == body)
+      if (const auto it = m.face_sets.find(body + "/" + bc.face); it != m.face_sets.end())
+        quads.insert(quads.end(), it->second.begin(), it->second.end());
+  return quads;
+}
+
+void tag_contact_body(const Model& m, const Case& c, const BodySpec& body, int id,
+                      std::vector<Tag>& tags) {
+  for (const Index n : surface_nodes(m, id, symmetry_faces(m, c, body.name)))
     if (!tags[static_cast<std::size_t>(n)].attached)
       tags[static_cast<std::size_t>(n)] = {body.h_factor * body.element_size, body.element_size,
                                            false};
@@ -84,7 +96,7 @@ std::vector<int> interface_flags(const Model& m) {
 
 } // namespace
 
-std::vector<Index> surface_nodes(const Model& m, int body_id) {
+std::vector<Index> surface_nodes(const Model& m, int body_id, const std::vector<Quad>& cut) {
   // Hexahedron faces by local node (gmsh order); a face is identified by its sorted nodes.
   static constexpr int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
                                       {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
@@ -101,12 +113,19 @@ std::vector<Index> surface_nodes(const Model& m, int body_id) {
     }
   }
   std::ranges::sort(keys);
+  std::vector<std::array<Index, 4>> cut_keys;
+  for (const Quad& q : cut) {
+    std::array<Index, 4> key{q[0], q[1], q[2], q[3]};
+    std::ranges::sort(key);
+    cut_keys.push_back(key);
+  }
+  std::ranges::sort(cut_keys);
   std::vector<Index> nodes;
   for (std::size_t f = 0; f < keys.size();) {
     std::size_t same = f + 1;
     while (same < keys.size() && keys[same] == keys[f])
       ++same;
-    if (same == f + 1)
+    if (same == f + 1 && !std::ranges::binary_search(cut_keys, keys[f]))
       nodes.insert(nodes.end(), keys[f].begin(), keys[f].end());
     f = same;
   }
@@ -129,7 +148,7 @@ void tag_interfaces(Model& m, const Case& c) {
     for (const std::string& name : contact.bodies) {
       const int id = body_id(c, name);
       if (c.bodies[static_cast<std::size_t>(id)].method == Method::Fem)
-        tag_contact_body(m, c.bodies[static_cast<std::size_t>(id)], id, tags);
+        tag_contact_body(m, c, c.bodies[static_cast<std::size_t>(id)], id, tags);
     }
   m.background_nodes.clear();
   m.h_background.clear();

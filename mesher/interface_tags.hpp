@@ -17,7 +17,9 @@ namespace sphfem::mesher {
 void tag_interfaces(Model& model, const Case& c);
 
 // The nodes of body `body_id`'s hexahedra that lie on a face belonging to only one of them (the
-// body's boundary), ascending.
-std::vector<Index> surface_nodes(const Model& model, int body_id);
+// body's boundary), ascending. Faces among `cut` (a quarter model's symmetry faces: the whole
+// body goes on there) do not count.
+std::vector<Index> surface_nodes(const Model& model, int body_id,
+                                 const std::vector<Quad>& cut = {});
 
 } // namespace sphfem::mesher

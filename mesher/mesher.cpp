@@ -174,8 +174,9 @@ std::string resolution_signature(const Case& c, const BodySpec& body) {
 }
 
 // The couplings, which decide the interface tags: one line per attachment and per contact pair
-// (its penalty and exponent do not change the model), each pair's names in a fixed order and the
-// lines sorted, since neither order changes the tags. Empty without couplings.
+// (its penalty and exponent do not change the model), each pair's names in a fixed order, and
+// one per symmetry face of a body in contact; the lines sorted, since no order changes the tags.
+// Empty without couplings.
 std::string coupling_signature(const Case& c) {
   std::vector<std::string> lines;
   for (const AttachSpec& attach : c.attachments)
@@ -184,6 +185,10 @@ std::string coupling_signature(const Case& c) {
     const auto [a, b] = std::minmax(contact.bodies[0], contact.bodies[1]);
     lines.push_back("contact " + a + " " + b + "\n");
   }
+  // A contact body's symmetry faces carry no background particles.
+  for (const BoundaryConditionSpec& bc : c.boundary_conditions)
+    if (bc.type == BoundaryType::Symmetry && in_contact(c, bc.body))
+      lines.push_back("symmetry " + bc.body + "/" + bc.face + "\n");
   std::ranges::sort(lines);
   std::string out;
   for (const std::string& line : lines)

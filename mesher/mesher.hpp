@@ -40,9 +40,9 @@ Model mesh_case(const Case& c);
 // order: name, method, geometry kind and numbers — a ring's sector always, a cylinder's only
 // when it is a quarter —, element_size or spacing, h_factor, lattice and material density; a
 // geometry file by its path and an FNV-1a hash of its bytes — files it includes are not hashed;
-// an FE body's h_factor only if it is in a contact pair), then one line per attachment and
-// contact pair (sorted; not the penalty or exponent). Doubles round-trip exactly. Throws if a
-// geometry file is unreadable.
+// an FE body's h_factor only if it is in a contact pair), then one line per attachment, contact
+// pair (not the penalty or exponent) and symmetry face of a body in contact, sorted. Doubles
+// round-trip exactly. Throws if a geometry file is unreadable.
 std::string mesh_signature(const Case& c);
 
 } // namespace sphfem

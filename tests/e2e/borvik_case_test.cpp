@@ -63,10 +63,13 @@ TEST(BorvikCase, QuarterModelMatchesTheWholeOneOnAnElasticImpact) {
   // The impact has happened: the projectile has slowed and the core moves.
   EXPECT_GT(vz[0][1], -300.0);
   EXPECT_LT(vz[0][0], -1.0);
-  // The meshes differ only in the projectile's rim polygon (20 sides whole, 24 quarter: 0.5% of
-  // its mass), so the velocities agree to about that.
-  EXPECT_NEAR(vz[1][0], vz[0][0], 0.02 * std::abs(vz[0][0])) << "plate core";
-  EXPECT_NEAR(vz[1][1], vz[0][1], 0.01 * std::abs(vz[0][1])) << "projectile";
+  // The quarter's mesh is exactly the quadrant of the whole one's. Measured at 25 µs: plate core
+  // −126.55 / −126.63 m/s (0.06%), projectile −107.40 / −106.41 m/s (0.9%, 0.5% of its velocity
+  // change). The projectile's difference is not understood yet (its rollers and mirrored
+  // background particles should make it exact): the bound holds what is measured, the core's
+  // tighter one what mirror particles achieve.
+  EXPECT_NEAR(vz[1][0], vz[0][0], 0.005 * std::abs(vz[0][0])) << "plate core";
+  EXPECT_NEAR(vz[1][1], vz[0][1], 0.015 * std::abs(vz[0][1])) << "projectile";
 }
 
 TEST(BorvikCase, CoarseQuarterShotRunsToTheEndWithItsReport) {

@@ -542,7 +542,7 @@ TEST(CaseReaderSph, RejectsMalformedSphTerms) {
   };
   EXPECT_EQ(sph_error("{artificial_viscosity: maybe}"),
             "case.yaml:11: sph.artificial_viscosity: must be false, true or a map of alpha, "
-            "beta, got maybe");
+            "beta, balsara, got maybe");
   EXPECT_TRUE(reports(sph_error("{xsph: [0.5]}"), "case.yaml:11: sph.xsph: ",
                       "must be false, true or a map of epsilon, got a list of 1"));
   EXPECT_TRUE(reports(sph_error("{artificial_stress: ~}"),

@@ -178,19 +178,18 @@ TEST(PlateImpactScene, QuarterModelHoldsAQuarterOfTheMass) {
   const std::vector<std::string> plate{"plate_core", "plate_ring"}, projectile{"projectile"};
   // Straight-edged hexahedra fill prisms over polygons inscribed in the circles, of area
   // (N/2) R² sin(2π/N): the plate's rim has N = 8 · 12 sides at 2 mm (less the 48 mm square
-  // hole, which the core fills exactly), the whole projectile's N = 4 · 5, the quarter's 8 · 3
-  // (3 = round(2.5) per 45°).
+  // hole, which the core fills exactly), the projectile's N = 8 · 3 (3 = round(2.5) per 45°).
   const auto polygon = [](double n, double r) {
     return 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n);
   };
   const double plate_exact = 7850 * polygon(96, 0.25) * 0.012;
-  const double projectile_exact = 7838 * polygon(20, 0.01) * 0.08;
+  const double projectile_exact = 7838 * polygon(24, 0.01) * 0.08;
   EXPECT_NEAR(mass_of(whole, mw, plate), plate_exact, 1e-9 * plate_exact);
   EXPECT_NEAR(mass_of(whole, mw, projectile), projectile_exact, 1e-9 * projectile_exact);
-  EXPECT_NEAR(mass_of(quarter, mq, projectile), 0.25 * 7838 * polygon(24, 0.01) * 0.08,
-              1e-9 * projectile_exact);
-  // The plate (core and ring meshed alike) is exactly a quarter of the whole one.
+  // Plate and projectile are meshed quadrant by quadrant: the quarter is exactly a quarter.
   EXPECT_NEAR(mass_of(quarter, mq, plate), 0.25 * mass_of(whole, mw, plate), 1e-12 * plate_exact);
+  EXPECT_NEAR(mass_of(quarter, mq, projectile), 0.25 * mass_of(whole, mw, projectile),
+              1e-12 * projectile_exact);
 }
 
 // The ring's hole nodes coincide with the core's outer lattice nodes, so the mesher ties them

@@ -204,7 +204,7 @@ TEST(CylinderMesh, CoarseCylinderStillValid) {
   const CylinderGeometry g{{0, 0, 0}, {0, 0, 0.01}, 0.004};
   const Model m = mesh_case(case_of({cylinder_body("rod", g.base, g.axis, g.radius, 0.02)}));
   expect_valid_mesh(m);
-  EXPECT_EQ(m.element_count(), 5); // core + 4 ring blocks, one layer
+  EXPECT_EQ(m.element_count(), 12); // 4 quadrants of core + 2 ring blocks, one layer
 }
 
 // ---- quarter cylinder -----------------------------------------------------------------------
