@@ -123,15 +123,8 @@ void make_structured(const OGrid& o) {
 void name_faces(const std::string& body, const OGrid& o) {
   const double tol = 1e-9 * std::max(o.radius, o.length);
   const auto all = [](const std::vector<Vec3>& x, auto on) { return std::ranges::all_of(x, on); };
-  gmsh::vectorpair dim_tags;
-  gmsh::model::getEntities(dim_tags, 2);
   std::vector<int> base, top, side, xmin, ymin;
-  for (const auto& [dim, surface] : dim_tags) {
-    std::vector<int> volumes, curves;
-    gmsh::model::getAdjacencies(2, surface, volumes, curves);
-    if (volumes.size() != 1)
-      continue;
-    const std::vector<Vec3> x = corner_points(2, surface);
+  for (const auto& [surface, x] : boundary_surfaces()) {
     if (all(x, [&](const Vec3& c) { return std::abs(c.z()) < tol; }))
       base.push_back(surface);
     else if (all(x, [&](const Vec3& c) { return std::abs(c.z() - o.length) < tol; }))

@@ -31,6 +31,14 @@ int divisions(double length, double element_size);
 // (synchronised model).
 std::vector<Vec3> corner_points(int dim, int tag);
 
+// The surfaces of gmsh's current (synchronised) model that bound exactly one volume — the body's
+// boundary — each with its corner points, for naming faces by where their corners lie.
+struct BoundarySurface {
+  int tag;
+  std::vector<Vec3> corners;
+};
+std::vector<BoundarySurface> boundary_surfaces();
+
 // Adds the surfaces as the physical surface group named `name`.
 void add_named_face(const std::string& name, const std::vector<int>& surfaces);
 

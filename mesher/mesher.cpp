@@ -219,6 +219,19 @@ std::vector<Vec3> corner_points(int dim, int tag) {
   return x;
 }
 
+std::vector<BoundarySurface> boundary_surfaces() {
+  gmsh::vectorpair dim_tags;
+  gmsh::model::getEntities(dim_tags, 2);
+  std::vector<BoundarySurface> out;
+  for (const auto& [dim, surface] : dim_tags) {
+    std::vector<int> volumes, curves;
+    gmsh::model::getAdjacencies(2, surface, volumes, curves);
+    if (volumes.size() == 1)
+      out.push_back({surface, corner_points(2, surface)});
+  }
+  return out;
+}
+
 void add_named_face(const std::string& name, const std::vector<int>& surfaces) {
   const int group = gmsh::model::addPhysicalGroup(2, surfaces);
   gmsh::model::setPhysicalName(2, group, name);

@@ -162,14 +162,7 @@ void name_faces(const std::string& body, const RingGeometry& g, const RingPlan& 
   const double tol = 1e-9 * g.radius;
   const auto all = [](const std::vector<Vec3>& x, auto on) { return std::ranges::all_of(x, on); };
   std::vector<int> inner, rim, bottom, top, xmin, ymin;
-  gmsh::vectorpair dim_tags;
-  gmsh::model::getEntities(dim_tags, 2);
-  for (const auto& [dim, surface] : dim_tags) {
-    std::vector<int> volumes, curves;
-    gmsh::model::getAdjacencies(2, surface, volumes, curves);
-    if (volumes.size() != 1)
-      continue;
-    const std::vector<Vec3> x = corner_points(2, surface);
+  for (const auto& [surface, x] : boundary_surfaces()) {
     if (all(x, [&](const Vec3& c) { return std::abs(c.z()) < tol; }))
       bottom.push_back(surface);
     else if (all(x, [&](const Vec3& c) { return std::abs(c.z() - g.thickness) < tol; }))

@@ -134,8 +134,8 @@ struct FemSpec {
 // SPH options (METHOD.md §2). A term that is off is not computed at all.
 struct SphSpec {
   bool artificial_viscosity = true;
-  double alpha = 1.0; // linear (bulk) coefficient
-  double beta = 2.0;  // quadratic coefficient
+  double alpha = 1.0;   // linear (bulk) coefficient
+  double beta = 2.0;    // quadratic coefficient
   bool balsara = false; // scale Π_ij by the pair's mean Balsara factor (less viscosity in shear)
   bool artificial_stress = true;
   double epsilon = 0.3;       // artificial stress factor

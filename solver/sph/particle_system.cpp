@@ -58,7 +58,7 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     p.inelastic = p.inelastic || (real && materials[body].inelastic());
     p.id_p[i] = real ? i : -1;
     p.R_p[i].setZero();
-    p.shear_p[i] = 1; // the FE side of a pair: the real particle's factor decides
+    p.shear_p[i] = 1;       // the FE side of a pair: the real particle's factor decides
     p.C_p[i].setIdentity(); // background particles are never corrected
     p.A_p[i].setZero();
     p.u_p[i].setZero();
