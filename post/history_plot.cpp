@@ -129,7 +129,7 @@ PlotUnit time_unit(const std::string& name) {
 PlotUnit column_unit(const std::string& column) {
   const auto dot = column.rfind('.');
   const std::string quantity = dot == std::string::npos ? column : column.substr(dot + 1);
-  if (column.rfind("energy.", 0) == 0)
+  if (column.rfind("energy.", 0) == 0 || quantity == "kinetic" || quantity == "internal")
     return {1, "J"};
   if (quantity == "ux" || quantity == "uy" || quantity == "uz")
     return {1e3, "mm"};

@@ -112,15 +112,24 @@ struct Page {
   }
 };
 
-// All energy columns of history.csv on one chart, J against µs.
-fs::path energy_chart(const History& h, const fs::path& dir) {
+// A report chart against time: 900 × 560 px, the title and y label given, x in µs; `t` gets
+// history.csv's time column in µs.
+LineChart time_chart(const History& h, const std::string& title, const std::string& y_label,
+                     std::vector<double>& t) {
   LineChart chart(900, 560);
-  chart.set_title("Energy balance");
+  chart.set_title(title);
   chart.set_x_label("time (\u00b5s)");
-  chart.set_y_label("energy (J)");
-  std::vector<double> t = h["time"];
+  chart.set_y_label(y_label);
+  t = h["time"];
   for (double& v : t)
     v *= 1e6;
+  return chart;
+}
+
+// All energy columns of history.csv on one chart, J against µs.
+fs::path energy_chart(const History& h, const fs::path& dir) {
+  std::vector<double> t;
+  LineChart chart = time_chart(h, "Energy balance", "energy (J)", t);
   std::size_t k = 0;
   for (const auto& c : h.columns)
     if (c.rfind("energy.", 0) == 0)
@@ -132,16 +141,33 @@ fs::path energy_chart(const History& h, const fs::path& dir) {
   return png;
 }
 
+// Where the energy went: each body's kinetic (solid) and internal (dashed) energy, J against µs,
+// from history.csv's body.<name>.kinetic|internal (runs before those columns have none: no chart).
+std::optional<fs::path> body_energy_chart(const History& h, const std::vector<std::string>& bodies,
+                                          const fs::path& dir) {
+  for (const auto& b : bodies)
+    if (!h.values.count("body." + b + ".kinetic") || !h.values.count("body." + b + ".internal"))
+      return std::nullopt;
+  std::vector<double> t;
+  LineChart chart = time_chart(h, "Energy by body", "energy (J)", t);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const std::string c = "body." + bodies[b];
+    chart.add_series(bodies[b] + " kinetic", t, h[c + ".kinetic"],
+                     {LineChart::palette(b), 2.0, false});
+    chart.add_series(bodies[b] + " internal", t, h[c + ".internal"],
+                     {LineChart::palette(b), 2.0, true});
+  }
+  const fs::path png = dir / "energy_bodies.png";
+  chart.write_png(png);
+  return png;
+}
+
 // Every body's centre-of-mass velocity component along `axis` (x, y or z).
 fs::path velocity_chart(const History& h, const std::vector<std::string>& bodies, char axis,
                         const fs::path& dir) {
-  LineChart chart(900, 560);
-  chart.set_title(std::string("Body centre-of-mass velocity v") + axis);
-  chart.set_x_label("time (\u00b5s)");
-  chart.set_y_label(std::string("v") + axis + " (m/s)");
-  std::vector<double> t = h["time"];
-  for (double& v : t)
-    v *= 1e6;
+  std::vector<double> t;
+  LineChart chart = time_chart(h, std::string("Body centre-of-mass velocity v") + axis,
+                               std::string("v") + axis + " (m/s)", t);
   for (std::size_t b = 0; b < bodies.size(); ++b)
     chart.add_series(bodies[b], t, h["body." + bodies[b] + ".v" + axis],
                      {LineChart::palette(b), 2.0, false});
@@ -321,15 +347,21 @@ Report write_report(const ReportOptions& o) {
   page.figure(energy_chart(history, dir),
               "Energies (J): kinetic, internal, hourglass, contact, eroded, external work (dashed) "
               "and their total; the balance error is |total − W_ext − E_0| / scale.");
+  if (const auto png = body_energy_chart(history, bodies, dir))
+    page.figure(*png, "Each body's kinetic (solid) and internal energy (dashed, J: stress work "
+                      "and viscous heating; the attachment's stored energy belongs to no body).");
 
   h << "<h2>Bodies</h2>\n<table><tr><th>body</th><th>mass (kg)</th><th>vx (m/s)</th><th>vy "
-       "(m/s)</th><th>vz (m/s)</th><th>killed particles</th><th>eroded elements</th></tr>\n";
+       "(m/s)</th><th>vz (m/s)</th><th>kinetic energy (J)</th><th>internal energy (J)</th>"
+       "<th>killed particles</th><th>eroded elements</th></tr>\n";
   for (const auto& b : bodies) {
     const auto& s = summary["bodies"][b];
     h << "<tr><td>" << escape_html(b) << "</td><td>" << format("%.6g", s.value("mass", 0.0))
       << "</td>";
     for (int k = 0; k < 3; ++k)
       h << "<td>" << format("%.4g", s["com_velocity"][k].get<double>()) << "</td>";
+    for (const char* energy : {"kinetic_energy", "internal_energy"})
+      h << "<td>" << (s.contains(energy) ? format("%.4g", s[energy].get<double>()) : "") << "</td>";
     h << "<td>" << s.value("killed_particles", 0) << "</td><td>" << s.value("eroded_elements", 0)
       << "</td></tr>\n";
   }
@@ -366,11 +398,17 @@ Report write_report(const ReportOptions& o) {
       };
       section.point = vec((*plane)["point"]);
       section.normal = vec((*plane)["normal"]);
+      if (const auto range = plane->find("u_range"); range != plane->end())
+        section.u_range =
+            std::array<double, 2>{(*range)[0].get<double>(), (*range)[1].get<double>()};
       where = "through (" + format("%.4g", section.point.x() * 1e3) + ", " +
               format("%.4g", section.point.y() * 1e3) + ", " +
               format("%.4g", section.point.z() * 1e3) + ") mm, normal (" +
               format("%.3g", section.normal.x()) + ", " + format("%.3g", section.normal.y()) +
               ", " + format("%.3g", section.normal.z()) + "), the case's output.section";
+      if (section.u_range)
+        where += ", drawn for " + format("%.4g", (*section.u_range)[0] * 1e3) + " ≤ u ≤ " +
+                 format("%.4g", (*section.u_range)[1] * 1e3) + " mm";
     }
     const SectionResult cut = write_section(section);
     page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) + " µs " +

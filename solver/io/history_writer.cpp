@@ -68,8 +68,10 @@ std::string history_unit(const std::string& column) {
   const std::string q = dot == std::string::npos ? column : column.substr(dot + 1);
   if (column == "time" || column == "dt")
     return "s";
-  if (column.rfind("energy.", 0) == 0)
+  if (column.rfind("energy.", 0) == 0 || q == "kinetic" || q == "internal")
     return "J";
+  if (q == "fx" || q == "fy" || q == "fz")
+    return "N";
   if (q == "ux" || q == "uy" || q == "uz")
     return "m";
   if (q == "vx" || q == "vy" || q == "vz")

@@ -49,7 +49,7 @@ std::vector<std::string> history_columns(const Case& c, const std::vector<Probe>
   for (const auto& name : probe_columns(probes))
     columns.push_back(name);
   for (const auto& b : bodies)
-    for (const char* k : {".vx", ".vy", ".vz"})
+    for (const char* k : {".vx", ".vy", ".vz", ".kinetic", ".internal"})
       columns.push_back("body." + b + k);
   for (int b : contact_bodies(c))
     for (const char* k : {".fx", ".fy", ".fz"})
@@ -68,7 +68,8 @@ void history_row(const Simulation& sim, double dt, const std::vector<Probe>& pro
   probe_values(probes, sim, row);
   const std::vector<BodyTotals> bodies = sim.bodies();
   for (const auto& b : bodies)
-    row.insert(row.end(), {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()});
+    row.insert(row.end(),
+               {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z(), b.kinetic, b.internal});
   for (int b : in_contact) {
     const Vec3& f = bodies[b].contact_force;
     row.insert(row.end(), {f.x(), f.y(), f.z()});
@@ -184,14 +185,19 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
         {"mass", b.mass},
         {"com_velocity", {b.com_velocity.x(), b.com_velocity.y(), b.com_velocity.z()}},
         {"killed_particles", b.killed_particles},
-        {"eroded_elements", b.eroded_elements}};
+        {"eroded_elements", b.eroded_elements},
+        {"kinetic_energy", b.kinetic},
+        {"internal_energy", b.internal}};
   for (const auto& p : probes)
     summary["probes"][p.name] = {{p.on_particle ? "particle" : "node", p.node},
                                  {"position", {p.position.x(), p.position.y(), p.position.z()}}};
-  if (const auto& plane = c.output.section)
+  if (const auto& plane = c.output.section) {
     summary["section_plane"] = {
         {"point", {plane->point.x(), plane->point.y(), plane->point.z()}},
         {"normal", {plane->normal.x(), plane->normal.y(), plane->normal.z()}}};
+    if (plane->u_range)
+      summary["section_plane"]["u_range"] = {(*plane->u_range)[0], (*plane->u_range)[1]};
+  }
   if (const auto& scene = c.scene)
     summary["scene"] = {{"name", scene->name},
                         {"preset", scene->preset},

@@ -224,31 +224,48 @@ double Simulation::momentum_drift() const {
 }
 
 std::vector<BodyTotals> Simulation::bodies() const {
-  // Per body: Σ m and Σ m v over its nodes and particles (a masked deterministic sum each).
-  struct MassMomentum {
-    double m = 0;
+  // Per body: Σ m, Σ m v and ½ Σ m v² over its nodes and particles, and the internal energy of
+  // its particles and elements (a masked deterministic sum each). The energy stored by the
+  // attachment coupling (background particles) belongs to no body: the bodies' internal
+  // energies add up to energy.internal less that.
+  struct BodySums {
+    double m = 0, kinetic = 0, internal = 0;
     Vec3 p = Vec3::Zero();
-    MassMomentum& operator+=(const MassMomentum& o) {
+    BodySums& operator+=(const BodySums& o) {
       m += o.m;
+      kinetic += o.kinetic;
+      internal += o.internal;
       p += o.p;
       return *this;
     }
   };
   const auto& part = particles_.particles();
+  const auto& e = elements_;
   std::vector<BodyTotals> out;
   for (int b = 0; b < static_cast<int>(body_names_.size()); ++b) {
-    MassMomentum sum = deterministic_sum(nodes_.size(), MassMomentum{}, [&](Index i) {
-      return nodes_.body_n[i] == b ? MassMomentum{nodes_.m_n[i], nodes_.m_n[i] * nodes_.v_n[i]}
-                                   : MassMomentum{};
+    BodySums sum = deterministic_sum(nodes_.size(), BodySums{}, [&](Index i) {
+      const double m = nodes_.m_n[i];
+      const Vec3& v = nodes_.v_n[i];
+      return nodes_.body_n[i] == b ? BodySums{m, 0.5 * m * v.squaredNorm(), 0, m * v} : BodySums{};
     });
-    sum += deterministic_sum(part.size(), MassMomentum{}, [&](Index i) {
-      return part.body_p[i] == b ? MassMomentum{part.m_p[i], part.m_p[i] * part.v_p[i]}
-                                 : MassMomentum{};
+    sum += deterministic_sum(part.size(), BodySums{}, [&](Index i) {
+      const double m = part.m_p[i];
+      const Vec3& v = part.v_p[i];
+      return part.body_p[i] == b
+                 ? BodySums{m, 0.5 * m * v.squaredNorm(), part.e_p[i] - 0.5 * part.de_p[i], m * v}
+                 : BodySums{};
+    });
+    sum += deterministic_sum(e.size(), BodySums{}, [&](Index k) {
+      return e.body_e[k] == b && !e.eroded_e[k]
+                 ? BodySums{0, 0, e.e_int_e[k] - 0.5 * e.de_int_e[k], Vec3::Zero()}
+                 : BodySums{};
     });
     const Vec3 contact =
         particles_.contact().empty() ? Vec3(Vec3::Zero()) : particles_.contact().force_on(part, b);
     BodyTotals totals{body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero()),
                       contact};
+    totals.kinetic = sum.kinetic;
+    totals.internal = sum.internal;
     for (Index i = 0; i < part.size(); ++i)
       totals.killed_particles += part.body_p[i] == b && part.kill_p[i] != Kill::None;
     for (Index k = 0; k < elements_.size(); ++k)

@@ -42,6 +42,8 @@ struct BodyTotals {
   Vec3 contact_force = Vec3::Zero(); // from its contact partners (METHOD.md §4.3), N
   Index killed_particles = 0;        // failed particles (METHOD.md §6)
   Index eroded_elements = 0;
+  double kinetic = 0;  // J, ½ Σ m v² of its nodes and particles
+  double internal = 0; // J, stress work and viscous heating in its particles and live elements
 };
 
 class Simulation {

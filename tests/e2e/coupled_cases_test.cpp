@@ -83,4 +83,32 @@ TEST(CoupledCases, BarImpactSeparatesLikeTheFeBars) {
   EXPECT_TRUE(history.values.count("body.bar_a.vz"));
   EXPECT_TRUE(history.values.count("body.bar_b.vz"));
   EXPECT_TRUE(history.values.count("contact.bar_b.fz"));
+
+  // Per-body energies: at the start each bar holds ½ m v² (|v| = 200 m/s) and no internal
+  // energy; at every output the bodies' energies add up to the totals (contact only: no
+  // attachment energy between them); once apart (contact ends near 2L/c0 ≈ 78 µs), each bar's
+  // kinetic + internal energy stays constant, as an isolated body's must.
+  const auto& t = history["time"];
+  for (const char* bar : {"bar_a", "bar_b"}) {
+    const std::string b = std::string("body.") + bar;
+    const double m = s["bodies"][bar]["mass"].get<double>();
+    EXPECT_NEAR(history[b + ".kinetic"].front(), 0.5 * m * 200.0 * 200.0, 1e-9 * m * 4e4) << bar;
+    EXPECT_EQ(history[b + ".internal"].front(), 0.0) << bar;
+    const double total = s["bodies"][bar]["kinetic_energy"].get<double>() +
+                         s["bodies"][bar]["internal_energy"].get<double>();
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if (t[k] > 1.5e-4) {
+        EXPECT_NEAR(history[b + ".kinetic"][k] + history[b + ".internal"][k], total, 0.01 * total)
+            << bar << " at t = " << t[k];
+      }
+    }
+  }
+  // history.csv holds 10 significant digits: three columns' rounding stays below 1e-8 E0.
+  const double tolerance = 1e-8 * history["energy.kinetic"].front();
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    EXPECT_NEAR(history["body.bar_a.kinetic"][k] + history["body.bar_b.kinetic"][k],
+                history["energy.kinetic"][k], tolerance);
+    EXPECT_NEAR(history["body.bar_a.internal"][k] + history["body.bar_b.internal"][k],
+                history["energy.internal"][k], tolerance);
+  }
 }

@@ -100,8 +100,9 @@ TEST(Report, RunWritesAReportWithoutReference) {
   EXPECT_EQ(count(page, "src=\"report/"), 0);
   EXPECT_NE(page.find("No reference values"), std::string::npos);
   EXPECT_NE(page.find("No fragments"), std::string::npos); // no particles in this run
-  for (const char* png : {"energy.png", "velocity_vz.png", "section.png"})
+  for (const char* png : {"energy.png", "energy_bodies.png", "velocity_vz.png", "section.png"})
     EXPECT_GT(fs::file_size(out / "report" / png), 1000u) << png;
+  EXPECT_NE(page.find("<th>internal energy (J)</th>"), std::string::npos);
 }
 
 TEST(Report, ComparesWithTheCaseReference) {
