@@ -55,7 +55,7 @@ void add_post_history(CLI::App& post, post::HistoryPlotOptions& o, std::string& 
 // a one-line sphfem error.
 struct SectionCommand {
   post::SectionOptions o;
-  std::string plane, axis, size = "900x560";
+  std::string plane, axis, u_range, size = "900x560";
   double time = 0;
   bool last = false; // the default; --last only excludes --time
   CLI::Option* time_option = nullptr;
@@ -104,6 +104,9 @@ CLI::App* add_post_section(CLI::App& post, SectionCommand& c) {
   section->add_option("--axis", c.axis,
                       "AX,AY,AZ: deflection axis, projected into the plane (default: the "
                       "in-plane direction closest to z)");
+  section->add_option("--u-range", c.u_range,
+                      "U0,U1: draw only U0 <= u <= U1 (m from the plane's point); the CSV and "
+                      "deflection keep the whole section");
   section->add_option("-o,--out", c.o.out_dir, "output folder (default: RUN/post)");
   section->add_option("--size", c.size, "image size in pixels, WIDTHxHEIGHT")
       ->capture_default_str();
@@ -117,6 +120,10 @@ void run_post_section(SectionCommand& c) {
   if (!c.axis.empty()) {
     const auto a = parse_numbers(c.axis, 3, "--axis", "AX,AY,AZ (three numbers)");
     c.o.axis = Vec3(a[0], a[1], a[2]);
+  }
+  if (!c.u_range.empty()) {
+    const auto u = parse_numbers(c.u_range, 2, "--u-range", "U0,U1 (two numbers, m)");
+    c.o.u_range = std::array<double, 2>{u[0], u[1]};
   }
   if (c.time_option->count() > 0)
     c.o.time = c.time;

@@ -363,10 +363,63 @@ std::string plane_name(const Plane& plane) {
 
 } // namespace
 
+void clip_polyline_u(std::vector<double>& u, std::vector<double>& w, double lo, double hi) {
+  const double gap = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> cu, cw;
+  const auto put = [&](double a, double b) {
+    cu.push_back(a);
+    cw.push_back(b);
+  };
+  const auto cut = [&] { // one break, never two in a row or at the start
+    if (!cu.empty() && !std::isnan(cu.back()))
+      put(gap, gap);
+  };
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    if (!std::isfinite(u[k])) {
+      cut();
+      continue;
+    }
+    if (k == 0 || !std::isfinite(u[k - 1])) {
+      if (u[k] >= lo && u[k] <= hi)
+        put(u[k], w[k]);
+      continue;
+    }
+    // The segment k−1 → k inside lo ≤ u ≤ hi: parameters t0 ≤ t1 in [0, 1].
+    const double a = u[k - 1], du = u[k] - a, b = w[k - 1], dw = w[k] - b;
+    double t0 = 0, t1 = 1;
+    if (du != 0) {
+      const double ta = (lo - a) / du, tb = (hi - a) / du;
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+    } else if (a < lo || a > hi) {
+      t0 = 1, t1 = 0;
+    }
+    if (t0 > t1) {
+      cut();
+      continue;
+    }
+    if (t0 > 0) { // enters through a bound (the start point was outside)
+      cut();
+      put(a + t0 * du, b + t0 * dw);
+    }
+    if (t1 < 1) { // leaves through a bound
+      put(a + t1 * du, b + t1 * dw);
+      cut();
+    } else {
+      put(u[k], w[k]);
+    }
+  }
+  u = std::move(cu);
+  w = std::move(cw);
+}
+
 SectionResult write_section(const SectionOptions& o) {
   // Everything is read and checked before anything is written.
   const Plane plane = make_plane(o);
   (void)LineChart(o.width, o.height); // checks the size
+  if (const auto& r = o.u_range)
+    SPHFEM_CHECK(std::isfinite((*r)[0]) && std::isfinite((*r)[1]) && (*r)[0] < (*r)[1],
+                 "--u-range ", (*r)[0], ",", (*r)[1], ": expected U0,U1 in m with U0 < U1");
   const Frame frame = read_frame(o.run, o.time);
   const Bodies bodies = read_bodies(o.run, frame);
   std::vector<bool> selected(bodies.names.size(), o.bodies.empty());
@@ -429,13 +482,18 @@ SectionResult write_section(const SectionOptions& o) {
       u_mm.push_back(std::numeric_limits<double>::quiet_NaN()); // breaks the line
       w_mm.push_back(std::numeric_limits<double>::quiet_NaN());
     }
+    if (o.u_range)
+      clip_polyline_u(u_mm, w_mm, 1e3 * (*o.u_range)[0], 1e3 * (*o.u_range)[1]);
     const Rgb rgb = LineChart::palette(colour++);
     chart.add_series(name, u_mm, w_mm, {rgb, 2.0, false});
     if (!s.killed.empty()) {
       std::vector<double> ku, kw;
       for (const Vec3& x : s.killed) {
         row(name, "killed", -1, x);
-        ku.push_back(1e3 * (x - plane.point).dot(plane.u));
+        const double u = (x - plane.point).dot(plane.u);
+        if (o.u_range && (u < (*o.u_range)[0] || u > (*o.u_range)[1]))
+          continue;
+        ku.push_back(1e3 * u);
         kw.push_back(1e3 * (x - plane.point).dot(plane.w));
       }
       LineStyle dots{rgb, 0.0, false};
@@ -458,11 +516,13 @@ SectionResult write_section(const SectionOptions& o) {
   finish(deflection, result.deflection_csv);
 
   auto vec = [](const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
-  const nlohmann::json json = {{"time_s", frame.time},
-                               {"plane", {{"point_m", vec(plane.point)}, {"normal", vec(plane.n)}}},
-                               {"axis", vec(plane.w)},
-                               {"u_axis", vec(plane.u)},
-                               {"bodies", json_bodies}};
+  nlohmann::json json = {{"time_s", frame.time},
+                         {"plane", {{"point_m", vec(plane.point)}, {"normal", vec(plane.n)}}},
+                         {"axis", vec(plane.w)},
+                         {"u_axis", vec(plane.u)},
+                         {"bodies", json_bodies}};
+  if (o.u_range)
+    json["u_range_m"] = {(*o.u_range)[0], (*o.u_range)[1]};
   std::ofstream json_out = open_file(result.json);
   json_out << json.dump(2) << "\n";
   finish(json_out, result.json);

@@ -22,15 +22,17 @@
 //   section.csv     body,part,polyline,u_m,w_m,x_m,y_m,z_m — one row per vertex, part fe|sph,
 //                   polylines numbered per body from 0 (closed ones repeat their first vertex);
 //                   killed particles as rows with part killed and polyline -1
-//   section.png     the polylines with equal axis scales in mm, one colour per body
+//   section.png     the polylines with equal axis scales in mm, one colour per body; with a
+//                   u range, only the part of the section inside it (the data files keep all)
 //   deflection.csv  body,radius_m,deflection_m
-//   section.json    {time_s, plane: {point_m, normal}, axis, u_axis,
+//   section.json    {time_s, plane: {point_m, normal}, axis, u_axis, [u_range_m],
 //                    bodies: {name: {max_deflection_m, polylines}}}
 // Verified by tests/post/section_test.cpp.
 #pragma once
 
 #include "solver/core/types.hpp"
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -46,8 +48,9 @@ struct SectionOptions {
   std::optional<double> time;      // s; the frame nearest to it; empty: the last frame
   std::vector<std::string> bodies; // empty: all bodies
   std::optional<Vec3> axis;        // deflection axis; empty: the in-plane direction closest to z
-  std::filesystem::path out_dir;   // empty: OUT/post
-  int width = 900, height = 560;   // PNG pixels
+  std::optional<std::array<double, 2>> u_range; // the picture's window along u, m; empty: all
+  std::filesystem::path out_dir;                // empty: OUT/post
+  int width = 900, height = 560;                // PNG pixels
 };
 
 struct SectionResult {
@@ -60,5 +63,10 @@ struct SectionResult {
 // plane that cuts nothing) throws sphfem::Error naming the file or option before anything is
 // written.
 SectionResult write_section(const SectionOptions& options);
+
+// The part of the polyline (u, w) with lo ≤ u ≤ hi, in place: a segment crossing a bound ends
+// on it (linear interpolation), a run outside becomes one break (NaN) in the line, as does a
+// break (NaN) already in it.
+void clip_polyline_u(std::vector<double>& u, std::vector<double>& w, double lo, double hi);
 
 } // namespace sphfem::post

@@ -166,6 +166,7 @@ struct ContactSpec {
 // The plane of the report's deformed section (post/section.hpp): a point on it and its normal.
 struct SectionPlane {
   Vec3 point = Vec3::Zero(), normal = Vec3::UnitY();
+  std::optional<std::array<double, 2>> u_range; // the picture's window along u, m; none: all
 };
 
 struct OutputSpec {

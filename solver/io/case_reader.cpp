@@ -954,7 +954,7 @@ OutputSpec Reader::output(const Located& at) const {
   if (const Located frames = child(at, "frames"); frames.node.IsDefined())
     spec.frames = flag(frames);
   if (const Located section = child(at, "section"); section.node.IsDefined()) {
-    check_map(section, {"point", "normal"});
+    check_map(section, {"point", "normal", "u_range"});
     SectionPlane plane;
     plane.point = vec3(required(section, "point", "a point on the plane [x, y, z], m"));
     const Located normal = required(section, "normal", "the plane's normal [x, y, z]");
@@ -962,6 +962,16 @@ OutputSpec Reader::output(const Located& at) const {
     if (!(plane.normal.norm() > 0))
       fail(normal, "must be a non-zero vector");
     plane.normal.normalize();
+    if (const Located range = child(section, "u_range"); range.node.IsDefined()) {
+      if (!range.node.IsSequence() || range.node.size() != 2)
+        fail(range, "must be a list of 2 numbers [u0, u1] (m along the section's u axis), got " +
+                        describe(range.node));
+      const std::vector<Located> u = items(range);
+      plane.u_range = std::array<double, 2>{number(u[0]), number(u[1])};
+      if (!((*plane.u_range)[0] < (*plane.u_range)[1]))
+        fail(range, "must be [u0, u1] with u0 < u1, got [" + describe(u[0].node) + ", " +
+                        describe(u[1].node) + "]");
+    }
     spec.section = plane;
   }
   return spec;

@@ -92,11 +92,14 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
     for (const BodySpec* body : {&core, &ring, &projectile})
       for (const char* face : {"xmin", "ymin"})
         c.boundary_conditions.push_back(condition(BoundaryType::Symmetry, body->name, face));
-  // The section through the impact axis, a quarter spacing off the plane y = 0 so that it cuts
-  // elements and particle layers rather than running along them.
   c.scene = SceneSpec{"plate_impact", s.preset, s.quarter, dp, s.velocity};
+  // The section through the impact axis, a quarter spacing off the plane y = 0 so that it cuts
+  // elements and particle layers rather than running along them. Its normal is −y so that the
+  // section's in-plane axis u = z × n is +x: a quarter model (x ≥ 0) is drawn at u ≥ 0. The
+  // picture shows the core and as much ring again (|x| ≤ 2 half_width), where the plate bulges.
   if (!c.output.section)
-    c.output.section = SectionPlane{Vec3(0, 0.25 * dp, -0.5 * t), Vec3::UnitY()};
+    c.output.section = SectionPlane{Vec3(0, 0.25 * dp, -0.5 * t), -Vec3::UnitY(),
+                                    std::array<double, 2>{s.quarter ? 0.0 : -2 * a, 2 * a}};
 }
 
 } // namespace sphfem

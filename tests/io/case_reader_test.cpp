@@ -269,6 +269,26 @@ TEST(CaseReader, RejectsNegativeOutputInterval) {
                       "case.yaml:2: time.output_interval: ", "must be > 0 s, got -1"));
 }
 
+// output.section: the plane the report cuts, and the window along u its picture shows.
+TEST(CaseReader, ReadsTheSectionPlaneAndItsWindow) {
+  const Case c = read_case_text(
+      kMinimal +
+          "output: {section: {point: [0, 0.001, 0], normal: [0, -2, 0], u_range: [0, 0.05]}}\n",
+      "case.yaml");
+  ASSERT_TRUE(c.output.section.has_value());
+  EXPECT_EQ(c.output.section->normal, Vec3(0, -1, 0)); // normalised
+  ASSERT_TRUE(c.output.section->u_range.has_value());
+  EXPECT_EQ(*c.output.section->u_range, (std::array<double, 2>{0, 0.05}));
+  const std::string section = "output: {section: {point: [0, 0, 0], normal: [0, 1, 0], u_range: ";
+  EXPECT_TRUE(reports(error_of(kMinimal + section + "[0.05]}}\n"),
+                      "case.yaml:11: output.section.u_range: ",
+                      "must be a list of 2 numbers [u0, u1] (m along the section's u axis), got "
+                      "a list of 1"));
+  EXPECT_TRUE(reports(
+      error_of(kMinimal + section + "[0.05, 0]}}\n"),
+      "case.yaml:11: output.section.u_range: ", "must be [u0, u1] with u0 < u1, got [0.05, 0]"));
+}
+
 TEST(CaseReader, RejectsEmptyBox) {
   EXPECT_TRUE(
       reports(error_of(edited(kMinimal, "max: [0.005, 0.005, 0.1]", "max: [0.005, 0, 0.1]")),

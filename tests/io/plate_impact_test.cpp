@@ -98,7 +98,7 @@ TEST(PlateImpactScene, ExpandsIntoCoreRingAndProjectile) {
   for (std::size_t k = 1; k < 7; ++k)
     EXPECT_EQ(c.boundary_conditions[k].type, BoundaryType::Symmetry);
   ASSERT_TRUE(c.output.section.has_value());
-  EXPECT_TRUE(c.output.section->normal.isApprox(Vec3::UnitY()));
+  EXPECT_TRUE(c.output.section->normal.isApprox(-Vec3::UnitY())); // u = z × n = +x
 }
 
 TEST(PlateImpactScene, PresetsOverridesAndTheWholeModel) {

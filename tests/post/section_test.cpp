@@ -390,6 +390,15 @@ TEST(Section, CommandOnATinyRunWritesTheFiles) {
   EXPECT_EQ(only_b["bodies"].size(), 1u);
   EXPECT_NEAR(only_b["time_s"].get<double>(), 0, 1e-12);
 
+  // A window along u: the picture shows less, the data files keep the whole section.
+  r = run_sphfem("post section " + run.string() +
+                     " --plane 0.025,0.025,0,1,0,0 --u-range -0.1,0 -o " + (dir / "half").string(),
+                 dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto half = nlohmann::json::parse(slurp(dir / "half" / "section.json"));
+  EXPECT_EQ(half["u_range_m"], nlohmann::json::array({-0.1, 0.0}));
+  EXPECT_EQ(read_section_csv(dir / "half" / "section.csv").size(), rows.size());
+
   const std::string out = " -o " + (dir / "p").string();
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"post section " + run.string() + " --plane 1,0,0,1,0,0", "the plane cuts no body"},
@@ -399,6 +408,10 @@ TEST(Section, CommandOnATinyRunWritesTheFiles) {
        "is along the plane's normal"},
       {"post section " + run.string() + " --plane 0.025,0,0,1,0,0 --bodies nope",
        "--bodies nope: no such body"},
+      {"post section " + run.string() + " --plane 0.025,0,0,1,0,0 --u-range 1",
+       "--u-range 1: expected U0,U1"},
+      {"post section " + run.string() + " --plane 0.025,0,0,1,0,0 --u-range 0.1,0",
+       "expected U0,U1 in m with U0 < U1"},
       {"post section " + dir.string() + " --plane 0,0,0,1,0,0", "results.pvd: no such file"},
   };
   for (const auto& [args, message] : cases) {
@@ -409,6 +422,36 @@ TEST(Section, CommandOnATinyRunWritesTheFiles) {
     EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << e.err;
     EXPECT_FALSE(fs::exists(dir / "p")) << args;
   }
+}
+
+// The picture's window along u: crossing segments end on the bounds, runs outside break the line.
+TEST(Section, ClipKeepsThePartInsideTheWindow) {
+  using sphfem::post::clip_polyline_u;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // A square from u = −1 to 3 (w 0 to 2), closed, clipped to 0 ≤ u ≤ 2: its top and bottom
+  // edges are cut at both bounds, its left and right edges vanish.
+  std::vector<double> u{-1, 3, 3, -1, -1}, w{0, 0, 2, 2, 0};
+  clip_polyline_u(u, w, 0, 2);
+  ASSERT_EQ(u.size(), 6u);
+  EXPECT_EQ(u[0], 0);
+  EXPECT_EQ(u[1], 2);
+  EXPECT_EQ(w[0], 0);
+  EXPECT_EQ(w[1], 0);
+  EXPECT_TRUE(std::isnan(u[2]));
+  EXPECT_EQ(u[3], 2);
+  EXPECT_EQ(u[4], 0);
+  EXPECT_EQ(w[3], 2);
+  EXPECT_EQ(w[4], 2);
+  EXPECT_TRUE(std::isnan(u[5])); // the line leaves the window at u = 0
+  // A slanted segment is cut where it crosses (w interpolated); a break stays one break; a
+  // line wholly outside leaves nothing.
+  std::vector<double> a{1, 4, nan, 5, 6}, b{0, 3, nan, 1, 1};
+  clip_polyline_u(a, b, 0, 2);
+  ASSERT_EQ(a.size(), 3u);
+  EXPECT_EQ(a[0], 1);
+  EXPECT_DOUBLE_EQ(a[1], 2);
+  EXPECT_DOUBLE_EQ(b[1], 1);
+  EXPECT_TRUE(std::isnan(a[2]));
 }
 
 // LineChart's options for sections: equal axis scales and point markers.
