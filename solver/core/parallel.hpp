@@ -13,6 +13,13 @@ namespace sphfem {
 // Loops shorter than this run on one thread: forking costs more than the work saved.
 inline constexpr Index parallel_min_items = 4096;
 
+// Chunk of a static schedule over items whose cost varies along the range (plastic against
+// elastic elements, particles in the impact zone against those far from it, background rows):
+// chunks dealt round-robin keep both threads busy where one contiguous half each would leave
+// one waiting. The split is static, so it does not depend on timing; each item writes only its
+// own results, so the results do not depend on the split.
+inline constexpr Index interleave_chunk = 16;
+
 template <class T, class Term> T deterministic_sum(Index n, T zero, Term term) {
   constexpr Index blocks = 64;
   std::array<T, blocks> partial;

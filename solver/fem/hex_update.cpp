@@ -49,7 +49,7 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
   double dt_min = std::numeric_limits<double>::infinity();
   Index first_inverted = n;
 
-#pragma omp parallel for schedule(static)                                                          \
+#pragma omp parallel for schedule(static, interleave_chunk)                                        \
     reduction(min                                                                                  \
               : dt_min, first_inverted) if (n > parallel_min_items / 16)
   for (Index k = 0; k < n; ++k) {
@@ -126,7 +126,8 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
       for (int a = 0; a < 4; ++a)
         resist[a] += dt * k_hg * mode[a];
     } else {
-      const double c_hg = fem.hourglass_coefficient * rho * c * std::pow(g.volume, 2.0 / 3.0) / 4.0;
+      const double edge = std::cbrt(g.volume);
+      const double c_hg = fem.hourglass_coefficient * rho * c * edge * edge / 4.0;
       for (int a = 0; a < 4; ++a)
         resist[a] = c_hg * mode[a];
     }

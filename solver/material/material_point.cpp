@@ -15,29 +15,42 @@ struct Yield {
   double slope;
 };
 
-Yield damaged_flow_stress(const JohnsonCook& jc, const MaterialPoint& point, double dp, double dt) {
+// What the flow stress of one return does not vary with Δp: damage and temperature stay at the
+// step's start, so (1 − D)(1 − T*^m) is computed once, not once per Newton iteration.
+struct ReturnPoint {
+  double intact;         // 1 − D
+  double damaged_strain; // r at the step's start
+  double rate_per_dp;    // ṙ*/Δp = (1 − D)/(Δt ṗ0)
+  double scale;          // (1 − D)(1 − T*^m)
+};
+
+ReturnPoint return_point(const JohnsonCook& jc, const MaterialPoint& point, double dt) {
   const double intact = 1.0 - point.damage;
-  const double r = point.damaged_strain + intact * dp;
-  const double ratio = intact * dp / (dt * jc.reference_strain_rate);
-  const double hardening = jc.A + jc.B * std::pow(r, jc.n);
-  const double hardening_slope = r > 0 ? jc.B * jc.n * std::pow(r, jc.n - 1.0) * intact : 0.0;
-  const double rate = rate_term(jc.rate_form, jc.C, ratio);
-  const double rate_slope =
-      rate_term_slope(jc.rate_form, jc.C, ratio) * intact / (dt * jc.reference_strain_rate);
-  const double scale = intact * jc.thermal_term(point.temperature);
-  return {scale * hardening * rate, scale * (hardening_slope * rate + hardening * rate_slope)};
+  return {intact, point.damaged_strain, intact / (dt * jc.reference_strain_rate),
+          intact * jc.thermal_term(point.temperature)};
+}
+
+// Two power evaluations: rⁿ gives its own slope n rⁿ/r, the rate term gives its own.
+Yield damaged_flow_stress(const JohnsonCook& jc, const ReturnPoint& at, double dp) {
+  const double r = at.damaged_strain + at.intact * dp;
+  const double rn = std::pow(r, jc.n);
+  const double hardening = jc.A + jc.B * rn;
+  const double hardening_slope = r > 0 ? jc.B * jc.n * (rn / r) * at.intact : 0.0;
+  const RateTerm rate = rate_term_and_slope(jc.rate_form, jc.C, at.rate_per_dp * dp);
+  return {at.scale * hardening * rate.value,
+          at.scale * (hardening_slope * rate.value + hardening * rate.slope * at.rate_per_dp)};
 }
 
 // The Δp that puts σ_trial − 3GΔp on the yield surface; the yield stress there is returned
 // through `flow`. g(Δp) decreases monotonically, g(0) > 0 and g(upper) ≤ 0.
-double return_increment(const JohnsonCook& jc, const MaterialPoint& point, double shear,
-                        double trial, double initial_yield, double dt, double& flow) {
+double return_increment(const JohnsonCook& jc, const ReturnPoint& at, double shear, double trial,
+                        double initial_yield, double& flow) {
   constexpr double tolerance = 1e-10;
   constexpr int max_iterations = 60;
   double lo = 0, hi = (trial - initial_yield) / (3.0 * shear);
   double dp = hi;
   for (int k = 0; k < max_iterations; ++k) {
-    const Yield y = damaged_flow_stress(jc, point, dp, dt);
+    const Yield y = damaged_flow_stress(jc, at, dp);
     const double g = trial - 3.0 * shear * dp - y.stress;
     flow = y.stress;
     if (std::abs(g) <= tolerance * trial)
@@ -73,11 +86,12 @@ double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, 
     return 0;
   const JohnsonCook& jc = *m.strength;
   const double trial = equivalent_stress(S);
-  const double initial_yield = damaged_flow_stress(jc, point, 0.0, dt).stress;
+  const ReturnPoint at = return_point(jc, point, dt);
+  const double initial_yield = damaged_flow_stress(jc, at, 0.0).stress;
   if (trial <= initial_yield)
     return 0;
   double flow = initial_yield;
-  const double dp = return_increment(jc, point, m.elastic.shear, trial, initial_yield, dt, flow);
+  const double dp = return_increment(jc, at, m.elastic.shear, trial, initial_yield, flow);
   S *= (trial - 3.0 * m.elastic.shear * dp) / trial;
   const double p_old = point.plastic_strain;
   point.plastic_strain += dp;

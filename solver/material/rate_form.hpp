@@ -17,11 +17,17 @@ inline double rate_term(RateForm form, double C, double ratio) {
                                  : 1.0 + C * std::log(std::max(ratio, 1.0));
 }
 
-// Its derivative with respect to ṙ*.
-inline double rate_term_slope(RateForm form, double C, double ratio) {
-  if (form == RateForm::Power)
-    return C * std::pow(1.0 + ratio, C - 1.0);
-  return ratio > 1.0 ? C / ratio : 0.0;
+// The term and its derivative with respect to ṙ*, from one power evaluation.
+struct RateTerm {
+  double value;
+  double slope;
+};
+inline RateTerm rate_term_and_slope(RateForm form, double C, double ratio) {
+  if (form == RateForm::Power) {
+    const double value = std::pow(1.0 + ratio, C);
+    return {value, C * value / (1.0 + ratio)};
+  }
+  return {1.0 + C * std::log(std::max(ratio, 1.0)), ratio > 1.0 ? C / ratio : 0.0};
 }
 
 } // namespace sphfem

@@ -7,33 +7,59 @@
 
 #include "solver/core/types.hpp"
 
+#include <cmath>
 #include <numbers>
 
 namespace sphfem {
 
-inline double kernel_W(double r, double h) {
-  const double q = r / h;
-  const double sigma = 1.0 / (std::numbers::pi * h * h * h);
+// The kernel's shape in q = r/h: w(q) = π h³ W and w'(q) = π h⁴ ∂W/∂r. A pair loop takes
+// 1/h once and evaluates W = w(q)/(π h³), ∂W/∂r = w'(q)/(π h⁴) without further divisions.
+inline double kernel_shape(double q) {
   if (q < 1.0)
-    return sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q);
+    return 1.0 - 1.5 * q * q + 0.75 * q * q * q;
   if (q < 2.0) {
     const double t = 2.0 - q;
-    return sigma * 0.25 * t * t * t;
+    return 0.25 * t * t * t;
   }
   return 0.0;
 }
 
-// ∂W/∂r (1/m⁴), ≤ 0.
-inline double kernel_dW(double r, double h) {
-  const double q = r / h;
-  const double sigma = 1.0 / (std::numbers::pi * h * h * h * h);
+// w'(q) ≤ 0.
+inline double kernel_shape_slope(double q) {
   if (q < 1.0)
-    return sigma * (-3.0 * q + 2.25 * q * q);
+    return -3.0 * q + 2.25 * q * q;
   if (q < 2.0) {
     const double t = 2.0 - q;
-    return -sigma * 0.75 * t * t;
+    return -0.75 * t * t;
   }
   return 0.0;
+}
+
+inline double kernel_W(double r, double h) {
+  return kernel_shape(r / h) / (std::numbers::pi * h * h * h);
+}
+
+// ∂W/∂r (1/m⁴), ≤ 0.
+inline double kernel_dW(double r, double h) {
+  return kernel_shape_slope(r / h) / (std::numbers::pi * h * h * h * h);
+}
+
+// The kernel terms of one pair at squared distance r2, 0 < r2 < 4h² (the caller tests that
+// first, without a square root): W, the factor ∂W/∂r / r that turns x_ij into ∇_i W, and q;
+// one division for 1/h and one for 1/r.
+struct PairKernel {
+  double W;
+  double grad_scale;
+  double q;
+};
+inline PairKernel pair_kernel(double r2, double h) {
+  const double r = std::sqrt(r2), inv_h = 1.0 / h, q = r * inv_h;
+  const double norm = inv_h * inv_h * inv_h * std::numbers::inv_pi;
+  return {norm * kernel_shape(q), norm * inv_h * kernel_shape_slope(q) / r, q};
+}
+
+inline bool within_support(double r2, double h) {
+  return r2 < 4.0 * h * h && r2 > 0.0;
 }
 
 // The gradient correction C = M⁻¹ (Randles & Libersky; Bonet & Lok) of a particle's moment

@@ -65,7 +65,7 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
                            double dt) {
   const Index n = p.size(), rows = p.rows();
   const bool excluded = p.excluded > 0;
-#pragma omp parallel for schedule(static) if (rows - n > parallel_min_items / 16)
+#pragma omp parallel for schedule(static, interleave_chunk) if (rows - n > parallel_min_items / 16)
   for (Index b = n; b < rows; ++b) {
     const Vec3 xb = p.x_p[b] - 0.5 * dt * p.u_p[b], vb = p.v_p[b];
     Mat3 G = Mat3::Zero(), M = Mat3::Zero();
@@ -73,18 +73,18 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
       if (p.group_p[j] != p.group_p[b] || (excluded && p.out_of_sums(j)))
         continue;
       const Vec3 x_bj = xb - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
-      const double r = x_bj.norm();
-      const double h_bj = 0.5 * (p.h_p[b] + p.h_p[j]);
-      if (r >= 2.0 * h_bj || r == 0.0)
+      const double r2 = x_bj.squaredNorm(), h_bj = 0.5 * (p.h_p[b] + p.h_p[j]);
+      if (!within_support(r2, h_bj))
         continue;
-      const Vec3 grad = (kernel_dW(r, h_bj) / r) * x_bj;
+      const Vec3 grad = pair_kernel(r2, h_bj).grad_scale * x_bj;
       M -= p.m_p[j] * x_bj * grad.transpose();
       if (p.real_like(j))
         G += p.m_p[j] * (p.v_p[j] - vb) * grad.transpose();
     }
-    M /= p.rho_p[b];
+    M *= 1.0 / p.rho_p[b];
     p.C_p[b] = gradient_correction(M, spec.gradient_correction);
-    const Mat3 A_new = total_stress(p, b) * p.C_p[b].transpose() / (p.rho_p[b] * p.rho_p[b]);
+    const Mat3 A_new =
+        total_stress(p, b) * p.C_p[b].transpose() * (1.0 / (p.rho_p[b] * p.rho_p[b]));
     p.de_p[b] = dt * p.m_p[b] * (0.5 * (p.A_p[b] + A_new)).cwiseProduct(G).sum();
     p.e_p[b] += p.de_p[b];
     if (spec.artificial_stress)
@@ -112,12 +112,14 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
   double drho = 0;
   int count = 0;
   for (Index j : list.of(i)) {
-    const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
-    const double r = x_ij.norm();
-    const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-    if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group)
+    if (p.group_p[j] != group)
       continue;
-    const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
+    const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
+    const double r2 = x_ij.squaredNorm(), h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
+    if (!within_support(r2, h_ij))
+      continue;
+    const PairKernel k = pair_kernel(r2, h_ij);
+    const Vec3 grad = k.grad_scale * x_ij;
     const Vec3 v_ji = p.v_p[j] - vi;
     if constexpr (Kill) {
       if (out || p.out_of_sums(j)) {
@@ -131,18 +133,18 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
     M -= p.m_p[j] * x_ij * grad.transpose();
     drho -= p.m_p[j] * v_ji.dot(grad);
     if (spec.xsph)
-      xsph += (2.0 * p.m_p[j] / (p.rho_p[i] + p.rho_p[j]) * kernel_W(r, h_ij)) * v_ji;
+      xsph += (2.0 * p.m_p[j] / (p.rho_p[i] + p.rho_p[j]) * k.W) * v_ji;
   }
   // Gradient correction (Randles & Libersky; Bonet & Lok 1999): with C = M⁻¹,
   // M = −(1/ρ_i) Σ_j m_j x_ij ⊗ ∇W, the gradient G C/ρ_i of every linear field is exact, also
   // at free surfaces where the kernel support is cut. The momentum pair term uses the same C
   // (A = σ Cᵀ/ρ², the transpose of this gradient), so stress power and force work agree pair
   // by pair, and a uniform stress loads only the surface.
-  M /= p.rho_p[i];
+  M *= 1.0 / p.rho_p[i];
   const Mat3 C = gradient_correction(M, spec.gradient_correction);
   p.C_p[i] = C;
   p.G_p[i] = G * C;
-  p.L_p[i] = p.G_p[i] / p.rho_p[i];
+  p.L_p[i] = p.G_p[i] * (1.0 / p.rho_p[i]);
   p.drho_p[i] = drho;
   p.xsph_p[i] = spec.xsph_epsilon * xsph;
   p.neighbours_p[i] = count;
@@ -153,7 +155,7 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
   const Index n = p.size();
   const bool kill = p.excluded > 0;
-#pragma omp parallel for schedule(static) if (n > parallel_min_items / 16)
+#pragma omp parallel for schedule(static, interleave_chunk) if (n > parallel_min_items / 16)
   for (Index i = 0; i < n; ++i) {
     if (kill)
       particle_kinematics<true>(p, list, spec, dt, i);
@@ -167,7 +169,7 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
                          double dt) {
   const Index n = p.size();
   Index first_bad = n, excluded = 0;
-#pragma omp parallel for schedule(static) reduction(min : first_bad) reduction(+ : excluded) if (n > parallel_min_items / 4)
+#pragma omp parallel for schedule(static, interleave_chunk) reduction(min : first_bad) reduction(+ : excluded) if (n > parallel_min_items / 4)
   for (Index i = 0; i < n; ++i) {
     const Material& mat = materials[p.material_p[i]];
     const double rho_old = p.rho_p[i];
@@ -228,7 +230,7 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
 #pragma omp parallel for schedule(static) if (total > parallel_min_items)
   for (Index i = 0; i < total; ++i) {
-    p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() / (p.rho_p[i] * p.rho_p[i]);
+    p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() * (1.0 / (p.rho_p[i] * p.rho_p[i]));
     const Material& mat = materials[p.material_p[i]];
     p.c_p[i] = mat.sound_speed(p.rho_p[i], energy_density(p, mat, i));
     p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
@@ -237,8 +239,9 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
   // background particles only from real ones (and their images), so each gets exactly minus
   // what it exerts (returned to its FE node). Mirror images gather nothing.
   double dt_min = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static) reduction(min                                            \
-                                                    : dt_min) if (rows > parallel_min_items / 16)
+#pragma omp parallel for schedule(static, interleave_chunk)                                        \
+    reduction(min                                                                                  \
+              : dt_min) if (rows > parallel_min_items / 16)
   for (Index i = 0; i < rows; ++i) {
     const Vec3 xi = p.x_p[i], vi = p.v_p[i], vni = p.vn_p[i];
     const int group = p.group_p[i];
@@ -249,21 +252,24 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
     Vec3 f = Vec3::Zero(), f_mirror = Vec3::Zero();
     double heat = 0;
     for (Index j : list.of(i)) {
-      const Vec3 x_ij = xi - p.x_p[j];
-      const double r = x_ij.norm();
-      const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
-      if (r >= 2.0 * h_ij || r == 0.0 || p.group_p[j] != group || !(real || p.real_like(j)) ||
+      if (p.group_p[j] != group || !(real || p.real_like(j)) ||
           (excluded && (p.out_of_sums(i) || p.out_of_sums(j))))
         continue;
+      const Vec3 x_ij = xi - p.x_p[j];
+      const double r2 = x_ij.squaredNorm(), h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
+      if (!within_support(r2, h_ij))
+        continue;
       const double rho_j = p.rho_p[j];
-      const Vec3 grad = (kernel_dW(r, h_ij) / r) * x_ij;
+      const PairKernel k = pair_kernel(r2, h_ij);
+      const Vec3 grad = k.grad_scale * x_ij;
       const Vec3 v_ij = vi - p.v_p[j], vn_ij = vni - p.vn_p[j];
       const double mm = p.m_p[i] * p.m_p[j];
       const Mat3 pair = A_i + p.A_p[j];
       Vec3 f_ij = mm * (pair * grad);
       if (spec.artificial_stress) {
+        // W(r, h)/W(Δp, h) = w(q)/w(Δp/h): the normalisations cancel.
         const double dp = 0.5 * (p.dp_p[i] + p.dp_p[j]);
-        const double fij = power(kernel_W(r, h_ij) / kernel_W(dp, h_ij), exponent);
+        const double fij = power(kernel_shape(k.q) / kernel_shape(dp / h_ij), exponent);
         const Vec3 f_R = (mm * fij) * ((p.R_p[i] + p.R_p[j]) * grad);
         f_ij += f_R;
         heat -= 0.5 * f_R.dot(vn_ij);
@@ -271,7 +277,7 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
       const double approach = v_ij.dot(x_ij);
       if (spec.artificial_viscosity && approach < 0) {
         const double c_j = p.c_p[j];
-        const double mu = h_ij * approach / (r * r + 0.01 * h_ij * h_ij);
+        const double mu = h_ij * approach / (r2 + 0.01 * h_ij * h_ij);
         double Pi =
             (-spec.alpha * 0.5 * (c_i + c_j) * mu + spec.beta * mu * mu) / (0.5 * (rho_i + rho_j));
         if (spec.balsara)
