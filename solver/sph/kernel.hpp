@@ -45,17 +45,18 @@ inline double kernel_dW(double r, double h) {
 }
 
 // The kernel terms of one pair at squared distance r2, 0 < r2 < 4h² (the caller tests that
-// first, without a square root): W, the factor ∂W/∂r / r that turns x_ij into ∇_i W, and q;
-// one division for 1/h and one for 1/r.
+// first, without a square root): W, the factor ∂W/∂r / r that turns x_ij into ∇_i W, q and
+// 1/h; one division for 1/h and one for 1/r.
 struct PairKernel {
   double W;
   double grad_scale;
   double q;
+  double inv_h;
 };
 inline PairKernel pair_kernel(double r2, double h) {
   const double r = std::sqrt(r2), inv_h = 1.0 / h, q = r * inv_h;
   const double norm = inv_h * inv_h * inv_h * std::numbers::inv_pi;
-  return {norm * kernel_shape(q), norm * inv_h * kernel_shape_slope(q) / r, q};
+  return {norm * kernel_shape(q), norm * inv_h * kernel_shape_slope(q) / r, q, inv_h};
 }
 
 inline bool within_support(double r2, double h) {

@@ -67,12 +67,12 @@ void background_kinematics(Particles& p, const NeighbourList& list, const SphSpe
   const bool excluded = p.excluded > 0;
 #pragma omp parallel for schedule(static, interleave_chunk) if (rows - n > parallel_min_items / 16)
   for (Index b = n; b < rows; ++b) {
-    const Vec3 xb = p.x_p[b] - 0.5 * dt * p.u_p[b], vb = p.v_p[b];
+    const Vec3 xb = p.xm_p[b], vb = p.v_p[b];
     Mat3 G = Mat3::Zero(), M = Mat3::Zero();
     for (Index j : list.of(b)) {
       if (p.group_p[j] != p.group_p[b] || (excluded && p.out_of_sums(j)))
         continue;
-      const Vec3 x_bj = xb - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
+      const Vec3 x_bj = xb - p.xm_p[j];
       const double r2 = x_bj.squaredNorm(), h_bj = 0.5 * (p.h_p[b] + p.h_p[j]);
       if (!within_support(r2, h_bj))
         continue;
@@ -100,11 +100,10 @@ namespace {
 // particle is out of the others' sums and they of its, but its own density still follows all
 // its neighbours, so that it sees when it is compressed again. Without, the loop has no test.
 template <bool Kill>
-void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
-                         Index i) {
-  // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity): a rigid rotation
+void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, Index i) {
+  // Mid-step geometry x^{n+½} = x^{n+1} − ½Δt u (u the drift velocity, xm_p): a rigid rotation
   // then has an exactly skew velocity gradient, as for the hexahedra.
-  const Vec3 xi = p.x_p[i] - 0.5 * dt * p.u_p[i], vi = p.v_p[i];
+  const Vec3 xi = p.xm_p[i], vi = p.v_p[i];
   const int group = p.group_p[i];
   [[maybe_unused]] const bool out = Kill && p.out_of_sums(i);
   Mat3 M = Mat3::Zero(), G = Mat3::Zero();
@@ -114,7 +113,7 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
   for (Index j : list.of(i)) {
     if (p.group_p[j] != group)
       continue;
-    const Vec3 x_ij = xi - (p.x_p[j] - 0.5 * dt * p.u_p[j]);
+    const Vec3 x_ij = xi - p.xm_p[j];
     const double r2 = x_ij.squaredNorm(), h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
     if (!within_support(r2, h_ij))
       continue;
@@ -153,14 +152,17 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
 } // namespace
 
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
-  const Index n = p.size();
+  const Index n = p.size(), total = p.total();
   const bool kill = p.excluded > 0;
+#pragma omp parallel for schedule(static) if (total > parallel_min_items)
+  for (Index i = 0; i < total; ++i)
+    p.xm_p[i] = p.x_p[i] - 0.5 * dt * p.u_p[i];
 #pragma omp parallel for schedule(static, interleave_chunk) if (n > parallel_min_items / 16)
   for (Index i = 0; i < n; ++i) {
     if (kill)
-      particle_kinematics<true>(p, list, spec, dt, i);
+      particle_kinematics<true>(p, list, spec, i);
     else
-      particle_kinematics<false>(p, list, spec, dt, i);
+      particle_kinematics<false>(p, list, spec, i);
   }
   background_kinematics(p, list, spec, dt);
 }
@@ -266,10 +268,12 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
       const double mm = p.m_p[i] * p.m_p[j];
       const Mat3 pair = A_i + p.A_p[j];
       Vec3 f_ij = mm * (pair * grad);
-      if (spec.artificial_stress) {
+      // R = 0 where no principal stress is tensile (trace R = −ε Σ max(σ'_k, 0)/ρ², zero only
+      // then): the term, its kernel ratio and its power are skipped for such pairs.
+      if (spec.artificial_stress && p.R_p[i].trace() + p.R_p[j].trace() < 0) {
         // W(r, h)/W(Δp, h) = w(q)/w(Δp/h): the normalisations cancel.
         const double dp = 0.5 * (p.dp_p[i] + p.dp_p[j]);
-        const double fij = power(kernel_shape(k.q) / kernel_shape(dp / h_ij), exponent);
+        const double fij = power(kernel_shape(k.q) / kernel_shape(dp * k.inv_h), exponent);
         const Vec3 f_R = (mm * fij) * ((p.R_p[i] + p.R_p[j]) * grad);
         f_ij += f_R;
         heat -= 0.5 * f_R.dot(vn_ij);

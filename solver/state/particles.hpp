@@ -54,6 +54,7 @@ struct Particles {
   std::vector<double> drho_p; // dρ/dt, kg/m³/s
   std::vector<Vec3> xsph_p;   // XSPH velocity correction, m/s
   std::vector<Vec3> u_p;      // drift velocity of the last step, v + XSPH, m/s
+  std::vector<Vec3> xm_p;     // mid-step position x^{n+½} = x^{n+1} − ½Δt u (kinematics), m
   std::vector<double> heat_p; // heating power of artificial viscosity and stress, W
   std::vector<Vec3> vn_p;     // velocity predicted at the next kick's time, for heat_p, m/s
   std::vector<Mat3> A_p;      // σ Cᵀ/ρ² for the momentum pair term, Pa m⁶/kg²
@@ -78,7 +79,7 @@ struct Particles {
     visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p), visit(group_p);
     visit(material_p), visit(id_p), visit(point_p), visit(kill_p), visit(f_p), visit(L_p),
         visit(C_p), visit(drho_p), visit(xsph_p);
-    visit(u_p), visit(G_p), visit(de_p);
+    visit(u_p), visit(xm_p), visit(G_p), visit(de_p);
     visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(shear_p), visit(R_p),
         visit(neighbours_p), visit(fc_p), visit(fm_p);
   }
