@@ -5,6 +5,7 @@
 #include "solver/io/frame_writer.hpp"
 #include "solver/io/history_writer.hpp"
 #include "solver/io/run_log.hpp"
+#include "solver/time/cost_estimate.hpp"
 #include "solver/time/probes.hpp"
 #include "solver/time/progress.hpp"
 #include "solver/time/simulation.hpp"
@@ -84,6 +85,17 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
+// "42 s", "7.5 min", "2.3 h".
+std::string duration_text(double seconds) {
+  if (seconds < 10)
+    return format("%.1f s", seconds);
+  if (seconds < 120)
+    return format("%.0f s", seconds);
+  if (seconds < 7200)
+    return format("%.1f min", seconds / 60);
+  return format("%.1f h", seconds / 3600);
+}
+
 } // namespace
 
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options) {
@@ -107,9 +119,19 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
              " mirror images; " + std::to_string(sph.neighbours().pair_count() / 2) +
              " neighbour pairs");
   }
-  log.line("stable step " + format("%.4e", dt0) + " s, about " +
-           format("%.0f", std::ceil(c.time.end / dt0)) +
+  const double steps = std::ceil(c.time.end / dt0);
+  log.line("stable step " + format("%.4e", dt0) + " s, about " + format("%.0f", steps) +
            " steps to t = " + format("%.4e", c.time.end) + " s");
+  const ParticleSystem& sph = sim.particle_system();
+  // Entries that a pair loop visits: the lists of real and background particles (mirror
+  // images gather nothing).
+  const NeighbourList& list = sph.neighbours();
+  const long long list_entries =
+      sph.empty() ? 0 : list.offsets[std::min(sph.particles().rows(), list.particle_count())];
+  const double estimate =
+      estimated_wall_s({elements, nodes, particles, list_entries, steps, thread_count()});
+  log.line("estimated wall time " + duration_text(estimate) +
+           " (costs per element, node, particle and neighbour measured in bench/README.md)");
   for (const auto& p : probes)
     log.line("probe " + p.name + " on " + (p.on_particle ? "particle " : "node ") +
              std::to_string(p.node) + " at (" + format("%.6g", p.position.x()) + ", " +

@@ -1,0 +1,35 @@
+// The wall time a run will take, estimated before it starts from what it holds: a cost per
+// element-step, node-step, particle-step and neighbour-list entry per step (both pair loops),
+// measured by bench/ on the 2-core machine of bench/README.md (1 thread, the Børvik standard
+// quarter shot and the block benchmarks), a parallel efficiency of 75% per thread beyond the
+// first (the same benchmarks at 2 threads), and a fixed cost per step (history row, energy
+// sums, thread start-ups: 2 ms, from the small verification cases). On other machines it scales
+// with their speed; it is meant to tell a minute from an hour, and is checked against real runs
+// in bench/README.md.
+#pragma once
+
+#include "solver/core/types.hpp"
+
+#include <algorithm>
+
+namespace sphfem {
+
+struct RunSize {
+  Index elements = 0;
+  Index nodes = 0;
+  Index particles = 0;
+  long long neighbour_entries = 0; // neighbour-list entries of real and background particles
+  double steps = 0;
+  int threads = 1;
+};
+
+inline double estimated_wall_s(const RunSize& s) {
+  constexpr double element_step = 500e-9, node_step = 40e-9, particle_step = 600e-9;
+  constexpr double entry_step = 30e-9, parallel_efficiency = 0.75, fixed_step = 2e-3;
+  const double one_thread = element_step * s.elements + node_step * s.nodes +
+                            particle_step * s.particles + entry_step * s.neighbour_entries;
+  const double speedup = s.threads > 1 ? parallel_efficiency * s.threads : 1.0;
+  return s.steps * (fixed_step + one_thread / std::max(speedup, 1.0));
+}
+
+} // namespace sphfem
