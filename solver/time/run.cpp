@@ -85,6 +85,9 @@ std::string format(const char* pattern, double value) {
   return text;
 }
 
+// Energy balance error above which a finished run is flagged (summary.json `warnings`, log).
+constexpr double energy_warning = 0.05;
+
 // "42 s", "7.5 min", "2.3 h".
 std::string duration_text(double seconds) {
   if (seconds < 10)
@@ -226,6 +229,17 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
                         {"symmetry", scene->quarter ? "quarter" : "none"},
                         {"spacing", scene->spacing},
                         {"projectile", {{"velocity", scene->velocity}}}};
+  // A step factor near its limit keeps the run stable but lets the energy drift (docs/
+  // stability.md: SPH at cfl 0.9–1.0 ends 10–14% off); say so where the user looks.
+  summary["warnings"] = nlohmann::json::array();
+  if (const double error = sim.balance_error(e); error > energy_warning) {
+    summary["warnings"].push_back(
+        "energy balance error " + format("%.1f%%", 100 * error) + " is above " +
+        format("%.0f%%", 100 * energy_warning) +
+        ": the step is too large for this model (time.cfl " + format("%g", c.time.cfl) +
+        ", sph.cfl " + format("%g", c.sph.cfl) +
+        ") or the contact too stiff; results are suspect (docs/stability.md)");
+  }
   summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
   write_text_atomically(out / "summary.json", summary.dump(2) + "\n");
@@ -233,6 +247,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   log.line("done: " + std::to_string(sim.steps()) + " steps in " + format("%.2f", wall) + " s (" +
            format("%.3g", summary["entity_steps_per_s"].get<double>()) +
            " entity-steps/s); energy balance error " + format("%.2e", sim.balance_error(e)));
+  for (const auto& warning : summary["warnings"])
+    log.line("warning: " + warning.get<std::string>());
   return summary;
 }
 
