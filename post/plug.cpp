@@ -23,6 +23,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <map>
 
 namespace sphfem::post {
 
@@ -145,6 +146,45 @@ Vec3 momentum_of_others(const Frame& f, int body) {
       for (Index n : f.hex_e[k])
         p += f.m_e[k] / 8 * f.v_n[n];
   return p;
+}
+
+// Smallest and largest x · axis over a body's particles and element nodes in a frame
+// (+∞, −∞ when it has none).
+std::pair<double, double> extent_along(const Frame& f, int body, const Vec3& axis) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const auto take = [&](const Vec3& x) {
+    lo = std::min(lo, x.dot(axis));
+    hi = std::max(hi, x.dot(axis));
+  };
+  for (std::size_t i = 0; i < f.x_p.size(); ++i)
+    if (f.body_p[i] == body)
+      take(f.x_p[i]);
+  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
+    if (f.body_e[k] == body)
+      for (Index n : f.hex_e[k])
+        take(f.x_n[n]);
+  return {lo, hi};
+}
+
+// Whether the leading other body — the one with the largest momentum along the axis in the
+// first frame — lies wholly beyond the target's rear face as it was then: the projectile is
+// through, plug or not (a target shattered into debris has none).
+bool passed_through(const Frame& first, const Frame& now, int target, const Vec3& axis) {
+  std::map<int, double> momentum; // body → momentum along the axis
+  for (std::size_t i = 0; i < first.x_p.size(); ++i)
+    if (first.body_p[i] != target)
+      momentum[first.body_p[i]] += first.m_p[i] * first.v_p[i].dot(axis);
+  for (std::size_t k = 0; k < first.hex_e.size(); ++k)
+    if (first.body_e[k] != target)
+      for (Index n : first.hex_e[k])
+        momentum[first.body_e[k]] += first.m_e[k] / 8 * first.v_n[n].dot(axis);
+  const auto leader = std::max_element(momentum.begin(), momentum.end(),
+                                       [](auto& a, auto& b) { return a.second < b.second; });
+  if (leader == momentum.end() || !(leader->second > 0))
+    return false;
+  const double rear = extent_along(first, target, axis).second;
+  const double front = extent_along(now, leader->first, axis).first;
+  return std::isfinite(rear) && front > rear;
 }
 
 int target_body(const Model& model, const std::string& name, const fs::path& file) {
@@ -312,6 +352,7 @@ PlugResult write_plug(const PlugOptions& o) {
   r.fragments = set.fragments;
   r.main = r.fragments.empty() ? -1 : 0;
   r.plug = find_plug(r.fragments, r.impact_axis, o.min_pieces);
+  r.passed_through = passed_through(first, frame, body, r.impact_axis);
   r.debris_mass = set.debris_mass;
 
   const fs::path dir = o.out_dir.empty() ? o.run / "post" : o.out_dir;
@@ -346,6 +387,7 @@ PlugResult write_plug(const PlugOptions& o) {
                               {"thickness_m", f.thickness}});
   j["main"] = r.main < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.main);
   j["plug"] = r.plug < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.plug);
+  j["projectile_passed_through"] = r.passed_through;
   std::ofstream json(r.json);
   json << j.dump(2) << "\n";
   SPHFEM_CHECK(json.flush(), r.json.string(), ": cannot write");

@@ -177,9 +177,9 @@ fs::path velocity_chart(const History& h, const std::vector<std::string>& bodies
 }
 
 // The perforation results DESIGN.md puts under summary.json's "results": perforated (a plug
-// separated), the residual velocities of the projectile (the other body with the largest
-// initial momentum along the impact axis) and of the plug along that axis, 0 without
-// perforation, and the plug's mass and size.
+// separated, or the projectile is wholly beyond the target's rear face), the residual velocities of
+// the projectile (the other body with the largest initial momentum along the impact axis) and of
+// the plug along that axis, 0 without perforation, and the plug's mass and size.
 nlohmann::json perforation_results(const nlohmann::json& summary, const History& history,
                                    const PlugResult& r, const std::string& target) {
   const Vec3& axis = r.impact_axis;
@@ -196,7 +196,7 @@ nlohmann::json perforation_results(const nlohmann::json& summary, const History&
       projectile = name;
     }
   }
-  const bool perforated = r.plug >= 0;
+  const bool perforated = r.plug >= 0 || r.passed_through;
   nlohmann::json out;
   out["perforated"] = perforated;
   out["target"] = target;
@@ -208,9 +208,9 @@ nlohmann::json perforation_results(const nlohmann::json& summary, const History&
     projectile_velocity =
         Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()).dot(axis);
   }
-  const Fragment plug = perforated ? r.fragments[r.plug] : Fragment{};
+  const Fragment plug = r.plug >= 0 ? r.fragments[r.plug] : Fragment{};
   out["residual_velocity"] = {{"projectile", projectile_velocity},
-                              {"plug", perforated ? plug.velocity.dot(axis) : 0.0}};
+                              {"plug", r.plug >= 0 ? plug.velocity.dot(axis) : 0.0}};
   out["plug"] = {{"mass", plug.mass}, {"diameter", plug.diameter}, {"thickness", plug.thickness}};
   out["time"] = r.time;
   out["units"] = {{"velocity", "m/s"}, {"mass", "kg"}, {"length", "m"}, {"time", "s"}};

@@ -337,6 +337,36 @@ TEST(PostPlug, OnATinyPerforationRunAccountsForThePlateMass) {
     fs::remove_all(dir);
 }
 
+// A 4 × 4 × 16 mm block at 3000 m/s through the 4 mm plate: by 15 µs it lies wholly below the plate's
+// rear face (z = −4 mm at t = 0), so the plate is perforated whether or not a plug is counted —
+// here none is (--min-pieces above the plate's particle count), as when a target shatters into
+// debris. In the first frame the block is above the plate: not through.
+TEST(PostPlug, AProjectileBeyondTheRearFaceHasPerforatedWithoutAPlug) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("sphfem_plug_through_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.yaml") << test::punch_case(0.004, 0.002, 0.016);
+  const fs::path out = dir / "out";
+  auto r = run_sphfem("run " + (dir / "case.yaml").string() + " -o " + out.string() +
+                          " -q --set 'bodies.projectile.velocity=[0,0,-3000]'",
+                      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_sphfem("post plug " + out.string() + " --min-pieces 100000 -o " + (dir / "late").string(),
+                 dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto late = nlohmann::json::parse(slurp(dir / "late" / "plug.json"));
+  EXPECT_TRUE(late["plug"].is_null());
+  EXPECT_TRUE(late["projectile_passed_through"].get<bool>());
+  EXPECT_NE(r.out.find("perforated"), std::string::npos) << r.out;
+  r = run_sphfem("post plug " + out.string() + " --time 0 -o " + (dir / "first").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto first = nlohmann::json::parse(slurp(dir / "first" / "plug.json"));
+  EXPECT_FALSE(first["projectile_passed_through"].get<bool>());
+  if (!HasFailure())
+    fs::remove_all(dir);
+}
+
 TEST(PostPlug, SeveralParticleBodiesNeedBody) {
   const fs::path dir =
       fs::temp_directory_path() / ("sphfem_plug_bodies_" + std::to_string(::getpid()));
