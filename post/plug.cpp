@@ -135,17 +135,24 @@ FragmentSource select_body(const Frame& f, int body) {
   return s;
 }
 
+// Momentum of each body (element momentum = ρ V × mean node velocity), kg m/s.
+std::map<int, Vec3> momentum_by_body(const Frame& f) {
+  std::map<int, Vec3> p;
+  for (std::size_t i = 0; i < f.x_p.size(); ++i)
+    p.try_emplace(f.body_p[i], Vec3::Zero()).first->second += f.m_p[i] * f.v_p[i];
+  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
+    for (Index n : f.hex_e[k])
+      p.try_emplace(f.body_e[k], Vec3::Zero()).first->second += f.m_e[k] / 8 * f.v_n[n];
+  return p;
+}
+
 // Total momentum of every body but `body`, kg m/s.
 Vec3 momentum_of_others(const Frame& f, int body) {
-  Vec3 p = Vec3::Zero();
-  for (std::size_t i = 0; i < f.x_p.size(); ++i)
-    if (f.body_p[i] != body)
-      p += f.m_p[i] * f.v_p[i];
-  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
-    if (f.body_e[k] != body)
-      for (Index n : f.hex_e[k])
-        p += f.m_e[k] / 8 * f.v_n[n];
-  return p;
+  Vec3 total = Vec3::Zero();
+  for (const auto& [b, p] : momentum_by_body(f))
+    if (b != body)
+      total += p;
+  return total;
 }
 
 // Smallest and largest x · axis over a body's particles and element nodes in a frame
@@ -170,20 +177,17 @@ std::pair<double, double> extent_along(const Frame& f, int body, const Vec3& axi
 // first frame — lies wholly beyond the target's rear face as it was then: the projectile is
 // through, plug or not (a target shattered into debris has none).
 bool passed_through(const Frame& first, const Frame& now, int target, const Vec3& axis) {
-  std::map<int, double> momentum; // body → momentum along the axis
-  for (std::size_t i = 0; i < first.x_p.size(); ++i)
-    if (first.body_p[i] != target)
-      momentum[first.body_p[i]] += first.m_p[i] * first.v_p[i].dot(axis);
-  for (std::size_t k = 0; k < first.hex_e.size(); ++k)
-    if (first.body_e[k] != target)
-      for (Index n : first.hex_e[k])
-        momentum[first.body_e[k]] += first.m_e[k] / 8 * first.v_n[n].dot(axis);
-  const auto leader = std::max_element(momentum.begin(), momentum.end(),
-                                       [](auto& a, auto& b) { return a.second < b.second; });
-  if (leader == momentum.end() || !(leader->second > 0))
+  int leader = -1;
+  double largest = 0;
+  for (const auto& [b, p] : momentum_by_body(first))
+    if (b != target && p.dot(axis) > largest) {
+      largest = p.dot(axis);
+      leader = b;
+    }
+  if (leader < 0)
     return false;
   const double rear = extent_along(first, target, axis).second;
-  const double front = extent_along(now, leader->first, axis).first;
+  const double front = extent_along(now, leader, axis).first;
   return std::isfinite(rear) && front > rear;
 }
 

@@ -10,8 +10,6 @@
 
 #include "solver/core/types.hpp"
 
-#include <algorithm>
-
 namespace sphfem {
 
 struct RunSize {
@@ -29,7 +27,7 @@ inline double estimated_wall_s(const RunSize& s) {
   const double one_thread = element_step * s.elements + node_step * s.nodes +
                             particle_step * s.particles + entry_step * s.neighbour_entries;
   const double speedup = s.threads > 1 ? parallel_efficiency * s.threads : 1.0;
-  return s.steps * (fixed_step + one_thread / std::max(speedup, 1.0));
+  return s.steps * (fixed_step + one_thread / speedup);
 }
 
 } // namespace sphfem

@@ -54,8 +54,9 @@ double peak_abs(const std::vector<double>& v) {
 } // namespace
 
 // 1 m/s each way, the bars moved to 1 mm beyond the contact's reach: the slowest impact the
-// matrix asks for. Equal elastic bars exchange their velocities (1-D theory); the kernel
-// contact and the SPH bar's dispersion leave a small residual.
+// matrix asks for. Equal elastic bars exchange their velocities (1-D theory); so slow, the
+// kernel contact acts softly over a long time and excites almost no lateral vibration
+// (measured −0.99996 m/s, energy error 1e-6; at 200 m/s the same bars rebound at 190.7).
 TEST(Stability, SlowImpactReboundsElastically) {
   const Outcome r =
       run("slow", bar_impact,
@@ -65,9 +66,9 @@ TEST(Stability, SlowImpactReboundsElastically) {
           "--set 'bodies.bar_b.velocity=[0,0,-1]' --set time.end=3.0e-3");
   ASSERT_EQ(r.code, 0);
   const auto& bodies = r.summary["bodies"];
-  EXPECT_NEAR(bodies["bar_a"]["com_velocity"][2].get<double>(), -1.0, 0.01);
-  EXPECT_NEAR(bodies["bar_b"]["com_velocity"][2].get<double>(), 1.0, 0.01);
-  EXPECT_LT(balance_error(r), 0.01);
+  EXPECT_NEAR(bodies["bar_a"]["com_velocity"][2].get<double>(), -1.0, 0.002);
+  EXPECT_NEAR(bodies["bar_b"]["com_velocity"][2].get<double>(), 1.0, 0.002);
+  EXPECT_LT(balance_error(r), 1e-3);
   EXPECT_TRUE(r.summary["warnings"].empty());
 }
 

@@ -337,10 +337,10 @@ TEST(PostPlug, OnATinyPerforationRunAccountsForThePlateMass) {
     fs::remove_all(dir);
 }
 
-// A 4 × 4 × 16 mm block at 3000 m/s through the 4 mm plate: by 15 µs it lies wholly below the plate's
-// rear face (z = −4 mm at t = 0), so the plate is perforated whether or not a plug is counted —
-// here none is (--min-pieces above the plate's particle count), as when a target shatters into
-// debris. In the first frame the block is above the plate: not through.
+// A 4 × 4 × 16 mm block at 3000 m/s through the 4 mm plate: by 15 µs it lies wholly below the
+// plate's rear face (z = −4 mm at t = 0), so the plate is perforated whether or not a plug is
+// counted — here none is (--min-pieces above the plate's particle count), as when a target shatters
+// into debris. In the first frame the block is above the plate: not through.
 TEST(PostPlug, AProjectileBeyondTheRearFaceHasPerforatedWithoutAPlug) {
   const fs::path dir =
       fs::temp_directory_path() / ("sphfem_plug_through_" + std::to_string(::getpid()));
