@@ -1,5 +1,6 @@
 #include "app/post_commands.hpp"
 
+#include "post/csv_chart.hpp"
 #include "post/history_plot.hpp"
 #include "post/plug.hpp"
 #include "post/report.hpp"
@@ -233,6 +234,46 @@ void print_report(const post::Report& r) {
     std::cout << "  left out: " << why << "\n";
 }
 
+struct ChartCommand {
+  post::CsvChartOptions options;
+  bool markers_only = false;
+  std::string size = "900x560";
+  CLI::App* app = nullptr;
+};
+
+void add_post_chart(CLI::App& post, ChartCommand& c) {
+  auto& o = c.options;
+  c.app = post.add_subcommand(
+      "chart", "a chart of two columns of any CSV file, one series per group, log axes if asked");
+  c.app->footer(
+      "Reads CSV (a header line, then rows; # lines skipped) and draws column Y against column X\n"
+      "as a PNG, one series per distinct value of the --group column, its points joined in file\n"
+      "order. With --log-x/--log-y the axis spans whole decades (every value must be > 0).\n"
+      "Example (the error-vs-cost chart of docs/accuracy-vs-cost.md):\n"
+      "  sphfem post chart docs/accuracy-vs-cost.csv -o cost.png --x wall_s --y error_pct \\\n"
+      "      --group model --log-x --log-y --x-label 'wall time (s)' --y-label 'error (%)'");
+  c.app->add_option("CSV", o.csv, "the CSV file")->required();
+  c.app->add_option("-o,--out", o.png, "the PNG to write")->required();
+  c.app->add_option("--x", o.x, "column on the x axis")->required();
+  c.app->add_option("--y", o.y, "column on the y axis")->required();
+  c.app->add_option("--group", o.group, "column naming each row's series (default: one series)");
+  c.app->add_flag("--log-x", o.log_x, "logarithmic x axis");
+  c.app->add_flag("--log-y", o.log_y, "logarithmic y axis");
+  c.app->add_flag("--markers-only", c.markers_only, "points only, not joined");
+  c.app->add_option("--title", o.title, "chart title");
+  c.app->add_option("--x-label", o.x_label, "x axis label (default: the column name)");
+  c.app->add_option("--y-label", o.y_label, "y axis label (default: the column name)");
+  c.app->add_option("--size", c.size, "image size in pixels, WIDTHxHEIGHT")->capture_default_str();
+}
+
+void run_post_chart(ChartCommand& c) {
+  c.options.lines = !c.markers_only;
+  std::tie(c.options.width, c.options.height) = post::parse_image_size(c.size);
+  const post::CsvChart chart = post::write_csv_chart(c.options);
+  std::cout << "chart:  " << c.options.png.string() << "  (" << chart.points << " points, "
+            << chart.series.size() << " series)\n";
+}
+
 } // namespace
 
 struct PostCommands::Options {
@@ -243,6 +284,7 @@ struct PostCommands::Options {
   CLI::App* section_app = nullptr;
   PlugCommand plug;
   ReportCommand report;
+  ChartCommand chart;
 };
 
 PostCommands::PostCommands(CLI::App& app) : o_(std::make_unique<Options>()) {
@@ -252,6 +294,7 @@ PostCommands::PostCommands(CLI::App& app) : o_(std::make_unique<Options>()) {
   o_->section_app = add_post_section(*o_->post, o_->section);
   add_post_plug(*o_->post, o_->plug);
   add_post_report(*o_->post, o_->report);
+  add_post_chart(*o_->post, o_->chart);
 }
 
 PostCommands::~PostCommands() = default;
@@ -269,6 +312,8 @@ void PostCommands::run() {
     if (plug.time_option->count() > 0)
       plug.options.time = plug.time;
     print_plug(post::write_plug(plug.options));
+  } else if (o_->chart.app->parsed()) {
+    run_post_chart(o_->chart);
   } else if (o_->report.app->parsed()) {
     print_report(post::write_report(o_->report.options));
   } else {

@@ -19,7 +19,8 @@ namespace sphfem::post {
 
 namespace {
 
-constexpr Rgb white{255, 255, 255}, black{0, 0, 0}, grid_grey{225, 225, 225};
+constexpr Rgb white{255, 255, 255}, black{0, 0, 0}, grid_grey{225, 225, 225},
+    minor_grey{242, 242, 242};
 constexpr int dpi = 72; // font sizes are then in pixels
 
 struct Canvas {
@@ -183,25 +184,37 @@ Rgb LineChart::palette(std::size_t i) {
 }
 
 namespace {
-// The nice range covering every finite value of `values` (of all series).
-template <class Values> auto axis_for(const Values& values) {
+// A value as its axis measures it: log10 on a logarithmic axis, where v ≤ 0 is a gap (NaN).
+double on_axis(double v, bool log) {
+  if (!log)
+    return v;
+  return v > 0 ? std::log10(v) : std::numeric_limits<double>::quiet_NaN();
+}
+
+// The range covering every finite value of `values` (of all series): nice steps on a linear
+// axis, whole decades (a step of one, or more beyond eight decades) on a logarithmic one.
+template <class Values> std::array<double, 3> axis_for(const Values& values, bool log) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const std::vector<double>* v : values)
     for (double x : *v)
-      if (std::isfinite(x)) {
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
+      if (const double a = on_axis(x, log); std::isfinite(a)) {
+        lo = std::min(lo, a);
+        hi = std::max(hi, a);
       }
   if (!(lo <= hi))
     lo = 0, hi = 1;
+  if (log) {
+    lo = std::floor(lo + 1e-9);
+    hi = std::max(std::ceil(hi - 1e-9), lo + 1);
+    return {lo, hi, std::max(1.0, std::ceil((hi - lo) / 8))};
+  }
   if (hi - lo <= 1e-12 * std::max(std::abs(lo), std::abs(hi))) { // constant: centre it
     const double half = lo == 0 ? 1 : 0.1 * std::abs(lo);
     lo -= half;
     hi += half;
   }
   const double step = nice((hi - lo) / 6); // 5 to 10 intervals
-  return std::array<double, 3>{std::floor(lo / step + 1e-9) * step,
-                               std::ceil(hi / step - 1e-9) * step, step};
+  return {std::floor(lo / step + 1e-9) * step, std::ceil(hi / step - 1e-9) * step, step};
 }
 } // namespace
 
@@ -209,16 +222,16 @@ LineChart::Axis LineChart::x_axis() const {
   std::vector<const std::vector<double>*> v;
   for (const auto& s : series_)
     v.push_back(&s.x);
-  const auto a = axis_for(v);
-  return {a[0], a[1], a[2]};
+  const auto a = axis_for(v, log_x_);
+  return {a[0], a[1], a[2], log_x_};
 }
 
 LineChart::Axis LineChart::y_axis() const {
   std::vector<const std::vector<double>*> v;
   for (const auto& s : series_)
     v.push_back(&s.y);
-  const auto a = axis_for(v);
-  return {a[0], a[1], a[2]};
+  const auto a = axis_for(v, log_y_);
+  return {a[0], a[1], a[2], log_y_};
 }
 
 void LineChart::axes(Axis& x, Axis& y) const {
@@ -226,6 +239,7 @@ void LineChart::axes(Axis& x, Axis& y) const {
   y = y_axis();
   if (!equal_aspect_)
     return;
+  SPHFEM_CHECK(!log_x_ && !log_y_, "a chart with equal aspect cannot have a logarithmic axis");
   // The axis with more pixels per data unit is widened about its centre to the other's scale.
   const Rect r = plot_area(width_, height_);
   const double kx = (r.right - r.left) / (x.max - x.min), ky = (r.bottom - r.top) / (y.max - y.min);
@@ -239,8 +253,8 @@ void LineChart::pixel(double x, double y, double& px, double& py) const {
   const Rect r = plot_area(width_, height_);
   Axis ax, ay;
   axes(ax, ay);
-  px = r.left + (x - ax.min) / (ax.max - ax.min) * (r.right - r.left);
-  py = r.bottom - (y - ay.min) / (ay.max - ay.min) * (r.bottom - r.top);
+  px = r.left + (on_axis(x, ax.log) - ax.min) / (ax.max - ax.min) * (r.right - r.left);
+  py = r.bottom - (on_axis(y, ay.log) - ay.min) / (ay.max - ay.min) * (r.bottom - r.top);
 }
 
 std::vector<unsigned char> LineChart::render() const {
@@ -249,28 +263,40 @@ std::vector<unsigned char> LineChart::render() const {
   Axis ax, ay;
   axes(ax, ay);
 
-  // Grid and tick labels at the multiples of the step.
+  // Grid and tick labels at the multiples of the step; on a logarithmic axis at the decades,
+  // with a lighter grid at 2…9 × 10^k.
   Text x_ticks(12, VTK_TEXT_CENTERED, VTK_TEXT_TOP), y_ticks(12, VTK_TEXT_RIGHT, VTK_TEXT_CENTERED);
-  const double x_first = std::ceil(ax.min / ax.step - 1e-9);
-  const double y_first = std::ceil(ay.min / ay.step - 1e-9);
-  for (double k = x_first; k * ax.step <= ax.max + 1e-9 * ax.step; ++k) {
-    const double v = k * ax.step;
+  auto x_line = [&](double v, Rgb grid, int tick, const std::string& label) {
     double px, py;
-    pixel(v, ay.min, px, py);
+    pixel(ax.log ? std::pow(10.0, v) : v, 1.0, px, py);
     const int x = int(std::lround(px));
-    canvas.fill(x, r.top, x, r.bottom, grid_grey);
-    canvas.fill(x, r.bottom, x, r.bottom + 5, black);
-    x_ticks.draw(canvas, tick_label(v, ax.step), x, r.bottom + 8);
-  }
-  for (double k = y_first; k * ay.step <= ay.max + 1e-9 * ay.step; ++k) {
-    const double v = k * ay.step;
+    canvas.fill(x, r.top, x, r.bottom, grid);
+    canvas.fill(x, r.bottom, x, r.bottom + tick, black);
+    x_ticks.draw(canvas, label, x, r.bottom + 8);
+  };
+  auto y_line = [&](double v, Rgb grid, int tick, const std::string& label) {
     double px, py;
-    pixel(ax.min, v, px, py);
+    pixel(1.0, ay.log ? std::pow(10.0, v) : v, px, py);
     const int y = int(std::lround(py));
-    canvas.fill(r.left, y, r.right, y, grid_grey);
-    canvas.fill(r.left - 5, y, r.left, y, black);
-    y_ticks.draw(canvas, tick_label(v, ay.step), r.left - 8, y);
-  }
+    canvas.fill(r.left, y, r.right, y, grid);
+    canvas.fill(r.left - tick, y, r.left, y, black);
+    y_ticks.draw(canvas, label, r.left - 8, y);
+  };
+  auto ticks = [&](const Axis& a, auto& line) {
+    for (double k = std::ceil(a.min / a.step - 1e-9); k * a.step <= a.max + 1e-9 * a.step; ++k) {
+      const double v = k * a.step;
+      if (!a.log) {
+        line(v, grid_grey, 5, tick_label(v, a.step));
+        continue;
+      }
+      const double decade = std::pow(10.0, v);
+      line(v, grid_grey, 5, tick_label(decade, decade));
+      for (int m = 2; a.step == 1 && v < a.max && m <= 9; ++m)
+        line(v + std::log10(m), minor_grey, 3, "");
+    }
+  };
+  ticks(ax, x_line);
+  ticks(ay, y_line);
 
   // Curves, each composited once from its coverage.
   Coverage all(width_, height_);

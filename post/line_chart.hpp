@@ -10,6 +10,8 @@
 // cover every finite point; a non-finite value breaks its line. With equal aspect on, one data
 // unit spans as many pixels on both axes (sections, shapes), the shorter range widened about its
 // centre. A series may draw dots at its points (markers) with or without the line between them.
+// Either axis may be logarithmic: it then spans whole decades, labelled at each power of ten and
+// gridded at 2…9 × 10^k, and a value ≤ 0 breaks its line as a non-finite one does.
 // Verified by tests/post/line_chart_test.cpp.
 #pragma once
 
@@ -43,6 +45,9 @@ public:
   void set_y_label(std::string label) { y_label_ = std::move(label); }
   void add_series(std::string label, std::vector<double> x, std::vector<double> y, LineStyle style);
   void set_equal_aspect(bool on) { equal_aspect_ = on; }
+  // Logarithmic axes (not with equal aspect).
+  void set_log_x(bool on) { log_x_ = on; }
+  void set_log_y(bool on) { log_y_ = on; }
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -59,8 +64,10 @@ public:
   static Rgb palette(std::size_t i);
 
 private:
+  // A logarithmic axis holds decade exponents: min, max and step are those of log10 of the data.
   struct Axis {
     double min, max, step;
+    bool log = false;
   };
   struct Series {
     std::string label;
@@ -76,6 +83,7 @@ private:
   std::string title_, x_label_, y_label_;
   std::vector<Series> series_;
   bool equal_aspect_ = false;
+  bool log_x_ = false, log_y_ = false;
 };
 
 } // namespace sphfem::post

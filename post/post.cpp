@@ -2,6 +2,7 @@
 
 #include "solver/core/error.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -35,10 +36,11 @@ std::vector<std::string> cells(const std::string& line) {
 
 } // namespace
 
-History read_history_csv(const std::filesystem::path& file) {
+CsvTable read_csv_table(const std::filesystem::path& file) {
   std::ifstream in(file);
   SPHFEM_CHECK(in, file.string(), ": cannot open");
-  History h;
+  CsvTable t;
+  t.file = file;
   std::string line;
   int number = 0;
   auto next_line = [&] { // skips blank and # comment lines; drops a Windows \r
@@ -52,26 +54,53 @@ History read_history_csv(const std::filesystem::path& file) {
     return false;
   };
   SPHFEM_CHECK(next_line(), file.string(), ": empty file, expected a header line");
-  h.columns = cells(line);
-  for (const auto& c : h.columns) {
-    SPHFEM_CHECK(!c.empty(), file.string(), ":", number, ": empty column name");
-    SPHFEM_CHECK(h.values.emplace(c, std::vector<double>{}).second, file.string(), ":", number,
-                 ": column ", c, " appears twice");
+  t.columns = cells(line);
+  for (std::size_t c = 0; c < t.columns.size(); ++c) {
+    SPHFEM_CHECK(!t.columns[c].empty(), file.string(), ":", number, ": empty column name");
+    SPHFEM_CHECK(std::find(t.columns.begin(), t.columns.begin() + c, t.columns[c]) ==
+                     t.columns.begin() + c,
+                 file.string(), ":", number, ": column ", t.columns[c], " appears twice");
   }
   while (next_line()) {
-    const auto row = cells(line);
-    SPHFEM_CHECK(row.size() == h.columns.size(), file.string(), ":", number, ": expected ",
-                 h.columns.size(), " values, found ", row.size());
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      double value = std::numeric_limits<double>::quiet_NaN(); // an empty cell is a gap
-      if (!row[c].empty()) {
-        char* end = nullptr; // strtod, not stod: a denormal is a number, not an error
-        value = std::strtod(row[c].c_str(), &end);
-        SPHFEM_CHECK(end == row[c].c_str() + row[c].size(), file.string(), ":", number, ": column ",
-                     h.columns[c], ": not a number: ", row[c]);
-      }
-      h.values[h.columns[c]].push_back(value);
-    }
+    t.rows.push_back(cells(line));
+    t.line_of_row.push_back(number);
+    SPHFEM_CHECK(t.rows.back().size() == t.columns.size(), file.string(), ":", number,
+                 ": expected ", t.columns.size(), " values, found ", t.rows.back().size());
+  }
+  return t;
+}
+
+std::size_t CsvTable::column(const std::string& name) const {
+  const auto it = std::find(columns.begin(), columns.end(), name);
+  if (it == columns.end()) {
+    std::string all;
+    for (const auto& c : columns)
+      all += (all.empty() ? "" : ", ") + c;
+    throw Error(file.string() + ": no column " + name + " (columns: " + all + ")");
+  }
+  return std::size_t(it - columns.begin());
+}
+
+double CsvTable::number(std::size_t row, std::size_t c) const {
+  const std::string& cell = rows[row][c];
+  if (cell.empty())
+    return std::numeric_limits<double>::quiet_NaN(); // an empty cell is a gap
+  char* end = nullptr; // strtod, not stod: a denormal is a number, not an error
+  const double value = std::strtod(cell.c_str(), &end);
+  SPHFEM_CHECK(end == cell.c_str() + cell.size(), file.string(), ":", line_of_row[row], ": column ",
+               columns[c], ": not a number: ", cell);
+  return value;
+}
+
+History read_history_csv(const std::filesystem::path& file) {
+  const CsvTable t = read_csv_table(file);
+  History h;
+  h.columns = t.columns;
+  for (std::size_t c = 0; c < t.columns.size(); ++c) {
+    auto& values = h.values[t.columns[c]];
+    values.reserve(t.rows.size());
+    for (std::size_t r = 0; r < t.rows.size(); ++r)
+      values.push_back(t.number(r, c));
   }
   return h;
 }

@@ -137,3 +137,58 @@ TEST(LineChart, PngReadsBackAsRendered) {
 TEST(LineChart, RejectsSillySizes) {
   EXPECT_THROW(LineChart(10, 10), sphfem::Error);
 }
+
+// Logarithmic axes: whole decades, each the same width, so a power law is a straight line.
+TEST(LineChart, LogAxesSpanDecadesAndDrawPowerLawsStraight) {
+  LineChart chart(W, H);
+  chart.set_log_x(true);
+  chart.set_log_y(true);
+  std::vector<double> x, y;
+  for (double e = -0.5; e <= 2.4; e += 0.01) { // x from 0.32 to 250, y = x^−2 from 10 to 1.6e−5
+    x.push_back(std::pow(10.0, e));
+    y.push_back(1.0 / (x.back() * x.back()));
+  }
+  const Rgb blue = LineChart::palette(0);
+  chart.add_series("x^-2", x, y, {blue, 2.0, false});
+  // x spans 10^−1 … 10^3 (4 decades), y 10^−5 … 10^1 (6 decades).
+  const auto r = LineChart::plot_area(W, H);
+  auto expected = [&](double xv, double yv, double& px, double& py) {
+    px = r.left + (std::log10(xv) + 1) / 4 * (r.right - r.left);
+    py = r.bottom - (std::log10(yv) + 5) / 6 * (r.bottom - r.top);
+  };
+  const auto pixels = rendered(chart);
+  for (double xv : {0.5, 1.0, 3.0, 10.0, 42.0, 200.0}) {
+    double px, py, ex, ey;
+    chart.pixel(xv, 1 / (xv * xv), px, py);
+    expected(xv, 1 / (xv * xv), ex, ey);
+    EXPECT_NEAR(px, ex, 1e-9) << xv;
+    EXPECT_NEAR(py, ey, 1e-9) << xv;
+    EXPECT_TRUE(pixels.near(ex, ey, blue, 1)) << xv;
+  }
+  // The straight line between the ends (independent of the mapping): its midpoint is drawn.
+  double ax, ay, bx, by;
+  expected(x.front(), y.front(), ax, ay);
+  expected(x.back(), y.back(), bx, by);
+  EXPECT_TRUE(pixels.near((ax + bx) / 2, (ay + by) / 2, blue, 1));
+}
+
+TEST(LineChart, NonPositiveValuesBreakALogLine) {
+  LineChart chart(W, H);
+  chart.set_log_y(true);
+  const Rgb orange = LineChart::palette(1);
+  chart.add_series("gap", {0, 4, 5, 6, 10}, {10, 10, 0, 10, 10}, {orange, 2.0, false});
+  chart.add_series("span", {0, 10}, {1, 100}, {LineChart::palette(0), 2.0, false});
+  const auto pixels = rendered(chart);
+  double px, py;
+  chart.pixel(2, 10, px, py);
+  EXPECT_TRUE(pixels.near(px, py, orange, 1));
+  chart.pixel(5, 10, px, py); // between x = 4 and 6 the zero broke the line
+  EXPECT_FALSE(pixels.near(px, py, orange, 1));
+}
+
+TEST(LineChart, EqualAspectWithALogAxisIsAnError) {
+  LineChart chart = diagonal_chart(LineChart::palette(0));
+  chart.set_equal_aspect(true);
+  chart.set_log_x(true);
+  EXPECT_THROW(chart.render(), sphfem::Error);
+}
