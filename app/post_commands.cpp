@@ -250,8 +250,8 @@ void add_post_chart(CLI::App& post, ChartCommand& c) {
       "as a PNG, one series per distinct value of the --group column, its points joined in file\n"
       "order. With --log-x/--log-y the axis spans whole decades (every value must be > 0).\n"
       "Example (the error-vs-cost chart of docs/accuracy-vs-cost.md):\n"
-      "  sphfem post chart docs/accuracy-vs-cost.csv -o cost.png --x wall_s --y error_pct \\\n"
-      "      --group model --log-x --log-y --x-label 'wall time (s)' --y-label 'error (%)'");
+      "  sphfem post chart docs/charts/accuracy-vs-cost.csv -o cost.png --x wall_s \\\n"
+      "      --y error_pct --group model --log-x --log-y --x-label 'wall time (s)'");
   c.app->add_option("CSV", o.csv, "the CSV file")->required();
   c.app->add_option("-o,--out", o.png, "the PNG to write")->required();
   c.app->add_option("--x", o.x, "column on the x axis")->required();
