@@ -6,8 +6,10 @@
 #include "mesher/mesher.hpp"
 #include "solver/core/error.hpp"
 #include "solver/io/case_reader.hpp"
+#include "solver/io/checkpoint.hpp"
 #include "solver/io/model_h5.hpp"
 #include "solver/io/model_vtu.hpp"
+#include "solver/time/restart_check.hpp"
 #include "solver/time/run.hpp"
 
 #include <CLI/CLI.hpp>
@@ -33,6 +35,7 @@ struct CommonOptions {
   std::vector<std::string> overrides;
   int threads = 0;
   bool quiet = false;
+  std::string restart; // solve only
 };
 
 void add_common(CLI::App& cmd, CommonOptions& o) {
@@ -105,6 +108,15 @@ int run_command_line(int argc, char** argv) {
   auto* solve_cmd = app.add_subcommand(
       "solve", "run the simulation (meshes first if OUT/model.h5 is missing or stale)");
   add_common(*solve_cmd, solve_o);
+  solve_cmd->add_option("--restart", solve_o.restart,
+                        "continue from a checkpoint (OUT/checkpoint.h5): the case's physics must "
+                        "be the checkpoint's; time.end and output keys may change");
+  solve_cmd->footer(
+      "A run writes OUT/checkpoint.h5 at its end, every output.checkpoint.steps steps and\n"
+      "output.checkpoint.wall_s seconds (default 600), and when stopped by SIGINT/SIGTERM\n"
+      "(Ctrl-C: it finishes the step, writes the checkpoint and exits with 130/143). Continue:\n"
+      "  sphfem solve CASE -o OUT --restart OUT/checkpoint.h5 [--set time.end=...]\n"
+      "With the same thread count the continued run writes what an uninterrupted one would.");
   auto* run = app.add_subcommand("run", "mesh + solve: the one-command pipeline");
   add_common(*run, run_o);
 
@@ -145,12 +157,17 @@ int run_command_line(int argc, char** argv) {
     set_threads(o.threads);
     const Case c = read_case(o.case_file, o.overrides);
     const fs::path out = o.out_dir;
+    if (!remesh && !solve_o.restart.empty()) // refused before anything is meshed or written
+      check_restart_case(solve_o.restart, read_checkpoint_meta(solve_o.restart), c);
     const Model model = remesh ? mesh_and_write(c, out, o.quiet) : current_model(c, out, o.quiet);
-    const auto summary = solve(c, model, {out, !o.quiet});
+    const auto summary = solve(c, model, {out, !o.quiet, remesh ? "" : solve_o.restart});
     print_outputs(out, summary);
     if (remesh)
       write_run_report(out);
     return 0;
+  } catch (const Interrupted& e) {
+    std::cerr << "sphfem: " << e.what() << "\n";
+    return 128 + e.signal();
   } catch (const Error& e) {
     std::cerr << "sphfem: error: " << e.what() << "\n";
     return 1;

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -169,9 +170,17 @@ struct SectionPlane {
   std::optional<std::array<double, 2>> u_range; // the picture's window along u, m; none: all
 };
 
+// When OUT/checkpoint.h5 is written besides the run's end (and a SIGINT/SIGTERM): every
+// `steps` steps (0: not by steps) and every `wall_s` seconds of wall time (0: not by time).
+struct CheckpointSpec {
+  long long steps = 0;
+  double wall_s = 600;
+};
+
 struct OutputSpec {
   bool frames = true;
   std::optional<SectionPlane> section; // none: through the model's centre, normal y
+  CheckpointSpec checkpoint;
 };
 
 // What a scene template was given (solver/io/plate_impact.hpp), for the run's summary.json
@@ -199,6 +208,10 @@ struct Case {
   SphSpec sph;
   OutputSpec output;
   std::optional<SceneSpec> scene;
+  // Every value of the file after overrides and material libraries, by key path ("time.cfl" →
+  // "0.5"; list entries by index): the case as parsed, which a checkpoint records and a restart
+  // compares.
+  std::map<std::string, std::string> keys;
 
   const MaterialSpec& material(const std::string& name) const;
   int body_index(const std::string& name) const; // -1 if absent

@@ -187,6 +187,20 @@ YAML::Node override_slot(const YAML::Node& root, YAML::Node& node, const std::st
   return unshared(root, node[key], path, text);
 }
 
+// Every scalar of the tree by its key path, list entries by index (Case::keys).
+void flatten(const YAML::Node& node, const std::string& path,
+             std::map<std::string, std::string>& out) {
+  if (node.IsMap()) {
+    for (const auto& entry : node)
+      flatten(entry.second, join(path, entry.first.as<std::string>()), out);
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      flatten(node[i], join(path, std::to_string(i)), out);
+  } else {
+    out[path] = node.IsScalar() ? node.Scalar() : "";
+  }
+}
+
 // Applies one "key.path=value" override to the tree in place; returns its key path.
 std::string apply_override(YAML::Node& root, const std::string& text) {
   const std::size_t equals = text.find('=');
@@ -949,10 +963,20 @@ SphSpec Reader::sph(const Located& at) const {
 }
 
 OutputSpec Reader::output(const Located& at) const {
-  check_map(at, {"frames", "section"});
+  check_map(at, {"frames", "section", "checkpoint"});
   OutputSpec spec;
   if (const Located frames = child(at, "frames"); frames.node.IsDefined())
     spec.frames = flag(frames);
+  if (const Located checkpoint = child(at, "checkpoint"); checkpoint.node.IsDefined()) {
+    check_map(checkpoint, {"steps", "wall_s"});
+    const double steps =
+        number_or(checkpoint, "steps", 0.0, "a whole number of steps >= 0 (0: not by steps)",
+                  [](double v) { return v >= 0 && v < 1e15 && v == std::floor(v); });
+    spec.checkpoint.steps = static_cast<long long>(steps);
+    spec.checkpoint.wall_s =
+        number_or(checkpoint, "wall_s", spec.checkpoint.wall_s, ">= 0 s (0: not by time)",
+                  [](double v) { return v >= 0 && std::isfinite(v); });
+  }
   if (const Located section = child(at, "section"); section.node.IsDefined()) {
     check_map(section, {"point", "normal", "u_range"});
     SectionPlane plane;
@@ -1153,7 +1177,9 @@ std::string file_text(const std::filesystem::path& file, std::string_view what) 
 Case read_case_text(const std::string& yaml_text, const std::filesystem::path& file,
                     const std::vector<std::string>& overrides) {
   Case result = parse(yaml_text, file, overrides, [](const Reader& reader, const YAML::Node& root) {
-    return reader.read(root);
+    Case c = reader.read(root);
+    flatten(root, "", c.keys);
+    return c;
   });
   result.file = file;
   return result;

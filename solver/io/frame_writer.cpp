@@ -96,7 +96,13 @@ void set_stress(vtkDoubleArray* stress, vtkIdType k, const Mat3& s) {
   stress->SetTuple(k, tensor);
 }
 
+// The arrays were filled in place (SetValue, SetTuple): marked modified, so that the ranges the
+// writer puts in the file's header are this frame's and not those cached at the first frame.
 void write_vtu(const std::filesystem::path& file, vtkUnstructuredGrid* grid) {
+  for (vtkDataSetAttributes* data : {static_cast<vtkDataSetAttributes*>(grid->GetPointData()),
+                                     static_cast<vtkDataSetAttributes*>(grid->GetCellData())})
+    for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+      data->GetAbstractArray(a)->Modified();
   write_atomically(file, [&](const std::filesystem::path& temporary) {
     auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
     writer->SetFileName(temporary.c_str());
@@ -246,6 +252,23 @@ void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
   }
   ++frame_count_;
   write_collection();
+}
+
+void FrameWriter::persist(StateArchive& a) {
+  std::ostringstream listed; // one frame file per line: time, part, file
+  listed.precision(17);
+  for (const auto& entry : entries_)
+    listed << entry.time << ' ' << entry.part << ' ' << entry.file << '\n';
+  std::string text = listed.str();
+  a.text("run/frames", text);
+  a.value("run/frame_count", frame_count_);
+  if (!a.reading())
+    return;
+  entries_.clear();
+  std::istringstream in(text);
+  for (Entry entry; in >> entry.time >> entry.part >> entry.file;)
+    entries_.push_back(entry);
+  SPHFEM_CHECK(in.eof(), "checkpoint: unreadable frame list");
 }
 
 void FrameWriter::write_collection() const {

@@ -14,6 +14,8 @@
 // Verified by tests/e2e/run_test.cpp (frames re-read with VTK's reader).
 #pragma once
 
+#include "solver/io/state_archive.hpp"
+
 #include "solver/state/hex_elements.hpp"
 #include "solver/state/nodes.hpp"
 #include "solver/state/particles.hpp"
@@ -35,6 +37,9 @@ public:
 
   void write(double time, const Nodes& nodes, const HexElements& e, const Particles& particles);
   int frame_count() const { return frame_count_; }
+  // Checkpoint: the frames listed so far. Reading them back makes the next write continue the
+  // numbering and the collection (a restart overwrites the frames written after the checkpoint).
+  void persist(StateArchive& a);
 
 private:
   void write_collection() const;

@@ -11,38 +11,62 @@
 namespace sphfem {
 
 HistoryWriter::HistoryWriter(const std::filesystem::path& out_dir, std::vector<std::string> columns)
-    : out_dir_(out_dir), columns_(std::move(columns)), csv_(out_dir / "history.csv") {
-  SPHFEM_CHECK(csv_, (out_dir / "history.csv").string(), ": cannot write");
+    : out_dir_(out_dir), columns_(std::move(columns)) {
   for (std::size_t c = 0; c < columns_.size(); ++c)
-    csv_ << (c ? "," : "") << columns_[c];
-  csv_ << '\n';
+    csv_ += (c ? "," : "") + columns_[c];
+  csv_ += '\n';
+  write_text_atomically(out_dir_ / "history.csv", csv_);
 }
 
 void HistoryWriter::append(const std::vector<double>& row) {
   SPHFEM_CHECK(row.size() == columns_.size(), "history row has ", row.size(), " values for ",
                columns_.size(), " columns");
   rows_.insert(rows_.end(), row.begin(), row.end());
+  write_csv_row(row.data());
+}
+
+void HistoryWriter::write_csv_row(const double* row) {
   char buffer[32];
-  for (std::size_t c = 0; c < row.size(); ++c) {
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
     std::snprintf(buffer, sizeof buffer, "%.10g", row[c]);
     if (c)
-      csv_ << ',';
-    csv_ << buffer;
+      csv_ += ',';
+    csv_ += buffer;
   }
-  csv_ << '\n';
+  csv_ += '\n';
+}
+
+void HistoryWriter::persist(StateArchive& a) {
+  std::string names;
+  for (const auto& c : columns_)
+    names += c + "\n";
+  std::string stored = names;
+  a.text("run/history_columns", stored);
+  SPHFEM_CHECK(stored == names, "checkpoint: its history has other columns than this run's");
+  a.array("run/history_rows", rows_);
+  if (!a.reading())
+    return;
+  SPHFEM_CHECK(rows_.size() % columns_.size() == 0, "checkpoint: history rows of ", rows_.size(),
+               " values for ", columns_.size(), " columns");
+  for (std::size_t at = 0; at < rows_.size(); at += columns_.size())
+    write_csv_row(&rows_[at]);
+  flush();
 }
 
 void HistoryWriter::flush() {
-  csv_.flush();
-  SPHFEM_CHECK(csv_, (out_dir_ / "history.csv").string(), ": write failed");
+  write_text_atomically(out_dir_ / "history.csv", csv_);
   write_atomically(out_dir_ / "history.h5", [&](const std::filesystem::path& temporary) {
     try {
       H5::Exception::dontPrint();
       H5::H5File file(temporary.string(), H5F_ACC_TRUNC);
+      // No modification times in the objects: the same history gives the same file, byte for
+      // byte (a restarted run's history.h5 equals the uninterrupted run's).
+      H5::DSetCreatPropList untimed;
+      H5Pset_obj_track_times(untimed.getId(), false);
       const hsize_t ncol = columns_.size();
       const std::array<hsize_t, 2> dims{rows_.size() / ncol, ncol};
-      H5::DataSet data =
-          file.createDataSet("history", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims.data()));
+      H5::DataSet data = file.createDataSet("history", H5::PredType::NATIVE_DOUBLE,
+                                            H5::DataSpace(2, dims.data()), untimed);
       if (!rows_.empty())
         data.write(rows_.data(), H5::PredType::NATIVE_DOUBLE);
       const H5::StrType text(H5::PredType::C_S1, H5T_VARIABLE);
@@ -55,8 +79,10 @@ void HistoryWriter::flush() {
         names.push_back(columns_[c].c_str());
         units.push_back(unit_strings[c].c_str());
       }
-      file.createDataSet("columns", text, H5::DataSpace(1, &count)).write(names.data(), text);
-      file.createDataSet("units", text, H5::DataSpace(1, &count)).write(units.data(), text);
+      file.createDataSet("columns", text, H5::DataSpace(1, &count), untimed)
+          .write(names.data(), text);
+      file.createDataSet("units", text, H5::DataSpace(1, &count), untimed)
+          .write(units.data(), text);
     } catch (const H5::Exception& e) {
       throw Error(temporary.string() + ": cannot write history: " + e.getDetailMsg());
     }

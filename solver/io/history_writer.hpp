@@ -1,10 +1,12 @@
-// Time histories: history.csv (one row per recorded step, header = column names, appended as
-// the run goes) and history.h5 (dataset /history rows × columns, its column names and units,
-// rewritten atomically whenever flush() is called). Verified by tests/e2e/run_test.cpp.
+// Time histories: history.csv (one row per recorded step, header = column names) and
+// history.h5 (dataset /history rows × columns, its column names and units), both rewritten
+// atomically whenever flush() is called, so a killed run leaves them whole. Verified by
+// tests/e2e/run_test.cpp.
 #pragma once
 
+#include "solver/io/state_archive.hpp"
+
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -18,12 +20,17 @@ public:
   // Makes history.csv and history.h5 complete up to the last appended row.
   void flush();
   const std::vector<std::string>& columns() const { return columns_; }
+  // Checkpoint: the rows so far. Reading them back rewrites history.csv up to them (a restart
+  // then appends the same rows the uninterrupted run wrote after the checkpoint).
+  void persist(StateArchive& a);
 
 private:
+  void write_csv_row(const double* row);
+
   std::filesystem::path out_dir_;
   std::vector<std::string> columns_;
   std::vector<double> rows_; // row-major
-  std::ofstream csv_;
+  std::string csv_;          // history.csv's text so far
 };
 
 // Unit of a history column, from its name (e.g. "p1.vz" → "m/s").

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "solver/io/case.hpp"
+#include "solver/io/state_archive.hpp"
 #include "solver/state/particles.hpp"
 
 #include <vector>
@@ -32,6 +33,11 @@ public:
   void refresh_motion(Particles& p, Index first) const;
   // Density, h, stress, gradient correction, artificial stress and last force of each image.
   void refresh_stress(Particles& p, Index first) const;
+  // Checkpoint: the images chosen at the last selection.
+  void persist(StateArchive& a) {
+    a.array("mirrors/source", source_);
+    a.array("mirrors/image", image_);
+  }
 
 private:
   struct Plane {

@@ -226,6 +226,18 @@ void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, 
   built_ = true;
 }
 
+void NeighbourSearch::persist(StateArchive& a) {
+  a.array("neighbours/x_build", x_build_);
+  a.array("neighbours/h_build", h_build_);
+  a.value("neighbours/skin", skin_);
+  a.value("neighbours/built", built_);
+  if (a.reading() && built_) {
+    const std::vector<Vec3> x = x_build_;
+    const std::vector<double> h = h_build_;
+    build(x, h, skin_);
+  }
+}
+
 // Counting sort of the particles into cells, stable in the original index.
 void NeighbourSearch::bin(std::span<const Vec3> x, std::span<const double> h) {
   const Index n = static_cast<Index>(x.size());

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "solver/core/types.hpp"
+#include "solver/io/state_archive.hpp"
 
 #include <array>
 #include <cstddef>
@@ -87,6 +88,10 @@ public:
   // transposition, which builds ~1.4× faster from lattice order and ~3× from a random one
   // (bench/neighbour_search.cpp), and keeps neighbours close in memory for the force loops.
   const std::vector<Index>& build_order() const { return bins_.order; }
+
+  // Checkpoint: the build-time positions, smoothing lengths and skin; reading rebuilds from them,
+  // which gives the very lists, grid and cell order of that build (a build is deterministic).
+  void persist(StateArchive& a);
 
   // A permutation ordering particles by cell (cell index x fastest, ties by old index):
   // new_to_old[k] is the old index of the particle placed at k. Cells have edge ≥ cell_size

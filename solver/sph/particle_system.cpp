@@ -34,7 +34,7 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
   auto& p = particles_;
   p.real = n;
   p.background = background_.size();
-  p.for_each_field([total](auto& field) { field.resize(total); });
+  p.for_each_field([total](const char*, auto& field) { field.resize(total); });
   double largest_h = 0;
   for (Index i = 0; i < total; ++i) {
     const bool real = i < n;
@@ -85,7 +85,7 @@ void ParticleSystem::place_mirrors() {
     largest_h = std::max(largest_h, p.h_p[i]);
   mirror_.select(p, 2.0 * largest_h + skin_);
   const Index total = p.rows() + mirror_.size();
-  p.for_each_field([total](auto& field) { field.resize(total); });
+  p.for_each_field([total](const char*, auto& field) { field.resize(total); });
   mirror_.refresh_motion(p, p.rows());
   mirror_.refresh_stress(p, p.rows());
 }
@@ -104,12 +104,30 @@ void ParticleSystem::rebuild() {
   for (Index k : search_.build_order())
     if (k < p.size())
       order.push_back(k);
-  p.for_each_field([&order](auto& field) { permute(field, order); });
+  p.for_each_field([&order](const char*, auto& field) { permute(field, order); });
   for (Index k = 0; k < p.size(); ++k)
     index_of_id_[p.id_p[k]] = k;
   place_mirrors();
   search_.build(p.x_p, p.h_p, skin_);
   ++rebuilds_;
+}
+
+void ParticleSystem::persist(StateArchive& a) {
+  auto& p = particles_;
+  a.value("particles/real", p.real);
+  a.value("particles/background", p.background);
+  a.value("particles/mirrored_real", p.mirrored_real);
+  a.value("particles/inelastic", p.inelastic);
+  a.value("particles/excluded", p.excluded);
+  p.for_each_field(
+      [&a](const char* name, auto& field) { a.array(std::string("particles/") + name, field); });
+  search_.persist(a);
+  mirror_.persist(a);
+  a.value("particles/contact_energy", contact_energy_);
+  a.array("particles/index_of_id", index_of_id_);
+  a.value("particles/skin", skin_);
+  a.value("particles/dt_stable", dt_stable_);
+  a.value("particles/rebuilds", rebuilds_);
 }
 
 void ParticleSystem::forces(double dt) {

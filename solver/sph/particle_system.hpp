@@ -63,6 +63,9 @@ public:
   Index index_of(Index id) const { return index_of_id_[id]; }
   long long rebuilds() const { return rebuilds_; }
   const NeighbourList& neighbours() const { return search_.list(); }
+  // Checkpoint: every particle field, the neighbour search, the mirror images and the counters
+  // that decide the next rebuild.
+  void persist(StateArchive& a);
 
 private:
   void rebuild();

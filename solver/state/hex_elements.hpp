@@ -34,6 +34,14 @@ struct HexElements {
   bool inelastic = false;                     // some element carries a plastic/damage history
 
   Index size() const { return static_cast<Index>(nodes_e.size()); }
+  // Visits every per-element array with its name (checkpoint).
+  template <class Visit> void for_each_field(Visit visit) {
+    visit("nodes_e", nodes_e), visit("material_e", material_e), visit("body_e", body_e);
+    visit("mass_e", mass_e), visit("V0_e", V0_e), visit("V_e", V_e), visit("S_e", S_e);
+    visit("p_e", p_e), visit("q_e", q_e), visit("e_int_e", e_int_e), visit("de_int_e", de_int_e);
+    visit("e_hg_e", e_hg_e), visit("hg_e", hg_e), visit("hg_mode_e", hg_mode_e), visit("f_e", f_e);
+    visit("point_e", point_e), visit("eroded_e", eroded_e);
+  }
   // Total stress σ = S − (p + q) I, tension positive.
   Mat3 sigma(Index e) const { return S_e[e] - (p_e[e] + q_e[e]) * Mat3::Identity(); }
 };

@@ -18,6 +18,11 @@ struct Nodes {
   std::vector<Vec3> f_ext_n; // applied external force (pressure loads), N
 
   Index size() const { return static_cast<Index>(x_n.size()); }
+  // Visits every per-node array with its name (checkpoint).
+  template <class Visit> void for_each_field(Visit visit) {
+    visit("x0_n", x0_n), visit("x_n", x_n), visit("v_n", v_n), visit("m_n", m_n);
+    visit("body_n", body_n), visit("f_int_n", f_int_n), visit("f_ext_n", f_ext_n);
+  }
 };
 
 } // namespace sphfem

@@ -1,5 +1,6 @@
 // SPH particles as a struct of arrays (STYLE.md B): kinematics, material state and the
-// per-step rates, plus for_each_field so reordering (cell sorting) never forgets a field.
+// per-step rates, plus for_each_field so reordering (cell sorting) and checkpoints never forget
+// a field.
 #pragma once
 
 #include "solver/core/types.hpp"
@@ -73,15 +74,44 @@ struct Particles {
   bool out_of_sums(Index j) const { return kill_p[j] == Kill::Tension; }
   Index total() const { return static_cast<Index>(x_p.size()); }
 
-  // Visits every per-particle array (for resize and reorder).
+  // Visits every per-particle array with its name (resize, reorder, checkpoint).
   template <class Visit> void for_each_field(Visit visit) {
-    visit(x0_p), visit(x_p), visit(v_p), visit(m_p), visit(rho0_p), visit(rho_p), visit(h_p);
-    visit(h0_p), visit(dp_p), visit(S_p), visit(p_p), visit(e_p), visit(body_p), visit(group_p);
-    visit(material_p), visit(id_p), visit(point_p), visit(kill_p), visit(f_p), visit(L_p),
-        visit(C_p), visit(drho_p), visit(xsph_p);
-    visit(u_p), visit(xm_p), visit(G_p), visit(de_p);
-    visit(heat_p), visit(vn_p), visit(A_p), visit(c_p), visit(shear_p), visit(R_p),
-        visit(neighbours_p), visit(fc_p), visit(fm_p);
+    visit("x0_p", x0_p);
+    visit("x_p", x_p);
+    visit("v_p", v_p);
+    visit("m_p", m_p);
+    visit("rho0_p", rho0_p);
+    visit("rho_p", rho_p);
+    visit("h_p", h_p);
+    visit("h0_p", h0_p);
+    visit("dp_p", dp_p);
+    visit("S_p", S_p);
+    visit("p_p", p_p);
+    visit("e_p", e_p);
+    visit("body_p", body_p);
+    visit("group_p", group_p);
+    visit("material_p", material_p);
+    visit("id_p", id_p);
+    visit("point_p", point_p);
+    visit("kill_p", kill_p);
+    visit("f_p", f_p);
+    visit("L_p", L_p);
+    visit("C_p", C_p);
+    visit("drho_p", drho_p);
+    visit("xsph_p", xsph_p);
+    visit("u_p", u_p);
+    visit("xm_p", xm_p);
+    visit("G_p", G_p);
+    visit("de_p", de_p);
+    visit("heat_p", heat_p);
+    visit("vn_p", vn_p);
+    visit("A_p", A_p);
+    visit("c_p", c_p);
+    visit("shear_p", shear_p);
+    visit("R_p", R_p);
+    visit("neighbours_p", neighbours_p);
+    visit("fc_p", fc_p);
+    visit("fm_p", fm_p);
   }
 };
 

@@ -2,19 +2,24 @@
 
 #include "solver/core/error.hpp"
 #include "solver/io/atomic_file.hpp"
+#include "solver/io/checkpoint.hpp"
 #include "solver/io/frame_writer.hpp"
 #include "solver/io/history_writer.hpp"
 #include "solver/io/run_log.hpp"
 #include "solver/time/cost_estimate.hpp"
 #include "solver/time/probes.hpp"
 #include "solver/time/progress.hpp"
+#include "solver/time/restart_check.hpp"
 #include "solver/time/simulation.hpp"
+#include "solver/time/stop_signals.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <optional>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -99,6 +104,19 @@ std::string duration_text(double seconds) {
   return format("%.1f h", seconds / 3600);
 }
 
+// The checkpoint's meta agrees with this case and model, or an Error says what differs.
+void check_restart(const std::filesystem::path& file, const CheckpointMeta& meta, const Case& c,
+                   const std::string& model, RunLog& log) {
+  check_restart_case(file, meta, c);
+  SPHFEM_CHECK(meta.model == model, "checkpoint ", file, " was made from another model (",
+               meta.model, "; this case meshes to ", model,
+               "): restart with the checkpoint's case, or start afresh");
+  if (meta.threads != thread_count())
+    log.line("note: the checkpoint was written with " + std::to_string(meta.threads) +
+             " threads, this run has " + std::to_string(thread_count()) +
+             ": results continue, but not bit for bit as the uninterrupted run");
+}
+
 } // namespace
 
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options) {
@@ -140,23 +158,53 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
              std::to_string(p.node) + " at (" + format("%.6g", p.position.x()) + ", " +
              format("%.6g", p.position.y()) + ", " + format("%.6g", p.position.z()) + ") m");
 
+  const std::string fingerprint = model_fingerprint(model);
+  std::optional<CheckpointMeta> restart;
+  if (!options.restart.empty()) {
+    restart = read_checkpoint_meta(options.restart);
+    check_restart(options.restart, *restart, c, fingerprint, log);
+  }
+
   std::unique_ptr<FrameWriter> frames;
-  if (c.output.frames) {
+  if (c.output.frames)
     frames = std::make_unique<FrameWriter>(out, sim.nodes(), sim.elements(),
                                            sim.particle_system().particles());
-    frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
-  }
   HistoryWriter history(out, history_columns(c, probes, sim.body_names()));
   std::vector<double> row;
   const std::vector<int> in_contact = contact_bodies(c);
-  history_row(sim, 0.0, probes, in_contact, sim.energies(), row);
-  history.append(row);
-
-  Progress progress(c.time.end, log);
-  const auto start = std::chrono::steady_clock::now();
   // Output times are compared with a relative tolerance so round-off in t never skips one.
   const double eps = 1e-9 * c.time.end;
   double next_frame = c.time.output_interval, next_history = c.time.history_interval;
+  // Everything a checkpoint holds: the simulation, the history so far, the frames listed and
+  // the next output times.
+  const auto persist = [&](StateArchive& a) {
+    sim.persist(a);
+    history.persist(a);
+    if (frames)
+      frames->persist(a);
+    a.value("run/next_frame", next_frame);
+    a.value("run/next_history", next_history);
+  };
+  const auto checkpoint = [&] {
+    write_checkpoint(out / "checkpoint.h5",
+                     {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
+  };
+  if (restart) {
+    read_checkpoint(options.restart, persist);
+    log.line("restart from " + options.restart.string() + " at t = " + format("%.6e", sim.time()) +
+             " s, step " + std::to_string(sim.steps()));
+  } else {
+    if (frames)
+      frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
+    history_row(sim, 0.0, probes, in_contact, sim.energies(), row);
+    history.append(row);
+  }
+
+  const StopSignals signals;
+  Progress progress(c.time.end, log);
+  const auto start = std::chrono::steady_clock::now();
+  auto last_checkpoint = start;
+  const long long first_step = sim.steps();
   double dt = dt0;
   while (sim.time() < c.time.end - eps) {
     dt = std::min(sim.stable_dt(), c.time.end - sim.time());
@@ -181,11 +229,33 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
         next_frame += c.time.output_interval;
     }
     progress.update(sim.steps(), sim.time(), dt);
+    if (const int signal = signals.received()) {
+      progress.finish();
+      history.flush();
+      checkpoint();
+      const std::string file = (out / "checkpoint.h5").string();
+      throw Interrupted(detail::concat("interrupted by ", signal == SIGINT ? "SIGINT" : "SIGTERM",
+                                       " at t = ", format("%.6e", sim.time()), " s (step ",
+                                       sim.steps(), "); checkpoint ", file,
+                                       " written; continue with: sphfem solve ", c.file.string(),
+                                       " -o ", out.string(), " --restart ", file,
+                                       " (and the same --set options)"),
+                        signal);
+    }
+    const auto now = std::chrono::steady_clock::now();
+    const CheckpointSpec& every = c.output.checkpoint;
+    if (!last && ((every.steps > 0 && sim.steps() % every.steps == 0) ||
+                  (every.wall_s > 0 &&
+                   std::chrono::duration<double>(now - last_checkpoint).count() >= every.wall_s))) {
+      checkpoint();
+      last_checkpoint = now;
+    }
   }
   progress.finish();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   history.flush();
+  checkpoint();
 
   const Energies e = sim.energies();
   const double balance = sim.balance_error(e);
@@ -197,7 +267,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   summary["time"] = sim.time();
   summary["wall_s"] = wall;
   summary["entity_steps_per_s"] =
-      wall > 0 ? double(particles + elements) * double(sim.steps()) / wall : 0.0;
+      wall > 0 ? double(particles + elements) * double(sim.steps() - first_step) / wall : 0.0;
   summary["threads"] = thread_count();
   summary["counts"] = {{"particles", particles}, {"nodes", nodes}, {"elements", elements}};
   summary["dt"] = {{"initial", dt0}, {"final", sim.stable_dt()}};

@@ -1,9 +1,14 @@
 // The solve loop: builds the simulation from a case and its model, steps it to the end time
 // and writes what DESIGN.md fixes — results.pvd + frames/*.vtu at each output interval,
-// history.csv/.h5, summary.json and run.log — with progress on long runs. Stops with an
-// Error (and keeps the frames written so far) when the run turns unstable.
+// history.csv/.h5, summary.json, run.log and checkpoint.h5 (output.checkpoint's cadence and at
+// the end) — with progress on long runs. Stops with an Error (and keeps the frames written so
+// far) when the run turns unstable. SIGINT/SIGTERM finish the step, write a checkpoint and throw
+// Interrupted. With a restart file it continues that checkpoint's run: refused if the case's
+// physics keys or the model differ from the checkpoint's; with the same thread count the
+// continued run writes what the uninterrupted one would, bit for bit (but wall times).
 #pragma once
 
+#include "solver/core/error.hpp"
 #include "solver/io/case.hpp"
 #include "solver/state/model.hpp"
 
@@ -14,7 +19,18 @@ namespace sphfem {
 
 struct SolveOptions {
   std::filesystem::path out_dir;
-  bool echo = true; // log and progress on stderr
+  bool echo = true;              // log and progress on stderr
+  std::filesystem::path restart; // a checkpoint.h5 to continue from (empty: start at t = 0)
+};
+
+// A run stopped by SIGINT or SIGTERM after writing its checkpoint.
+class Interrupted : public Error {
+public:
+  Interrupted(const std::string& what, int signal) : Error(what), signal_(signal) {}
+  int signal() const { return signal_; }
+
+private:
+  int signal_;
 };
 
 // Runs the case and returns the summary that was written to OUT/summary.json.

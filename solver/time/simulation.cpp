@@ -174,6 +174,25 @@ void Simulation::step(double dt) {
   ++steps_;
 }
 
+void Simulation::persist(StateArchive& a) {
+  a.value("simulation/time", time_);
+  a.value("simulation/steps", steps_);
+  a.value("simulation/dt_elements", dt_elements_);
+  a.value("simulation/dt_previous", dt_previous_);
+  a.value("simulation/external_work", external_work_);
+  a.value("simulation/initial_energy", initial_energy_);
+  a.value("simulation/initial_momentum", initial_momentum_);
+  a.value("simulation/momentum_scale", momentum_scale_);
+  a.value("simulation/external_impulse", external_impulse_);
+  a.value("simulation/impulse_scale", impulse_scale_);
+  nodes_.for_each_field(
+      [&a](const char* name, auto& field) { a.array(std::string("nodes/") + name, field); });
+  elements_.for_each_field(
+      [&a](const char* name, auto& field) { a.array(std::string("elements/") + name, field); });
+  a.value("elements/inelastic", elements_.inelastic);
+  particles_.persist(a);
+}
+
 Energies Simulation::energies() const {
   Energies out;
   const auto& p = particles_.particles();

@@ -10,6 +10,7 @@
 #include "solver/coupling/interface_ties.hpp"
 #include "solver/fem/node_gather.hpp"
 #include "solver/io/case.hpp"
+#include "solver/io/state_archive.hpp"
 #include "solver/material/material.hpp"
 #include "solver/sph/particle_system.hpp"
 #include "solver/state/hex_elements.hpp"
@@ -72,6 +73,11 @@ public:
   double momentum_drift() const;
   Vec3 momentum() const;
   std::vector<BodyTotals> bodies() const;
+
+  // Checkpoint: time, step, the balances' accumulators and every node, element and particle
+  // field; reading it into a simulation built from the same case and model continues that run
+  // bit for bit (same thread count).
+  void persist(StateArchive& a);
 
 private:
   double cfl_;

@@ -1,0 +1,25 @@
+// SIGINT and SIGTERM during a run: while a StopSignals lives, either signal only sets a flag;
+// the run loop finishes the current step, writes a checkpoint and stops with a message saying
+// how to continue (run.cpp). The previous handlers come back when it dies.
+#pragma once
+
+#include <csignal>
+
+namespace sphfem {
+
+class StopSignals {
+public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+  // The signal received (SIGINT or SIGTERM), 0 if none.
+  int received() const;
+
+private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+} // namespace sphfem
