@@ -10,7 +10,13 @@ void write_atomically(const std::filesystem::path& file,
                       const std::function<void(const std::filesystem::path& temporary)>& write) {
   std::filesystem::path temporary = file;
   temporary += ".tmp";
-  write(temporary);
+  try {
+    write(temporary);
+  } catch (...) {
+    std::error_code ignored; // a failed write leaves neither a half file nor its temporary
+    std::filesystem::remove(temporary, ignored);
+    throw;
+  }
   std::error_code ec;
   std::filesystem::rename(temporary, file, ec);
   SPHFEM_CHECK(!ec, file.string(), ": cannot replace the file: ", ec.message());

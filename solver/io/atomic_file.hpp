@@ -1,5 +1,6 @@
 // Crash-safe file replacement: write to "<file>.tmp", then rename over <file>, so a reader or
-// a crash never sees a half-written file (DESIGN.md, Files).
+// a crash never sees a half-written file (DESIGN.md, Files); a write that throws removes its
+// temporary and leaves <file> as it was.
 #pragma once
 
 #include <filesystem>

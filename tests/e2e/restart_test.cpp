@@ -1,0 +1,206 @@
+// Nothing lost (issue 9): a solve killed with SIGKILL at a random step, or stopped with SIGINT,
+// leaves every file readable and continues from its checkpoint to the very files an
+// uninterrupted run writes — history.csv, history.h5, results.pvd, every frame and summary.json
+// but its wall times — at the same thread count. A restart whose physics keys differ is
+// refused before anything is written. The reference is the uninterrupted run itself: the
+// restart must reproduce it bit for bit, not approximately.
+#include "post/post.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "tests/support/command.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using sphfem::test::slurp;
+
+namespace {
+
+const std::string case_file = std::string(SPHFEM_SOURCE_DIR) + "/cases/bar_impact/case.yaml";
+// bar_impact 5× longer than shipped (about 2 000 steps), a checkpoint every 100 steps.
+const std::string keys = " --set time.end=1e-3 --set time.output_interval=1e-4"
+                         " --set output.checkpoint.steps=100 -j 2 -q";
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("sphfem_restart_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// `sphfem ARGS` in the background (exec'd by the shell, so the pid is sphfem's), output in DIR.
+pid_t spawn(const std::string& args, const fs::path& dir) {
+  const std::string cmd = "exec env -u DISPLAY " + std::string(SPHFEM_BINARY) + " " + args + " >" +
+                          (dir / "stdout.txt").string() + " 2>" + (dir / "stderr.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+int run(const std::string& args, const fs::path& dir) {
+  int status = 0;
+  ::waitpid(spawn(args, dir), &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Waits (up to a minute) until the run has written its first periodic checkpoint.
+bool wait_for_checkpoint(const fs::path& out, pid_t pid) {
+  for (int i = 0; i < 6000; ++i) {
+    if (fs::exists(out / "checkpoint.h5"))
+      return true;
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid)
+      return false; // ended before
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+nlohmann::json summary_without_wall_time(const fs::path& out) {
+  nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
+  s.erase("wall_s");
+  s.erase("entity_steps_per_s");
+  return s;
+}
+
+// The files of `out` equal those of the uninterrupted run, byte for byte.
+void expect_same_as_uninterrupted(const fs::path& out, const fs::path& reference) {
+  // Compared as whole files; EXPECT_TRUE, not EXPECT_EQ: a failure names the file instead of
+  // printing its bytes.
+  for (const char* file : {"history.csv", "history.h5", "results.pvd"})
+    EXPECT_TRUE(slurp(out / file) == slurp(reference / file)) << file << " differs";
+  EXPECT_EQ(summary_without_wall_time(out), summary_without_wall_time(reference));
+  int frames = 0;
+  for (const auto& entry : fs::directory_iterator(reference / "frames")) {
+    const fs::path name = entry.path().filename();
+    EXPECT_TRUE(slurp(out / "frames" / name) == slurp(entry.path())) << name << " differs";
+    ++frames;
+  }
+  EXPECT_EQ(frames, 22); // frames at 0, 0.1, …, 1 ms for the FE bar and the particle bar
+}
+
+class Restart : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    reference_ = new fs::path(scratch("reference"));
+    ASSERT_EQ(run("solve " + case_file + " -o " + reference_->string() + keys, *reference_), 0)
+        << slurp(*reference_ / "stderr.txt");
+  }
+  static void TearDownTestSuite() {
+    if (!HasFailure())
+      fs::remove_all(*reference_);
+    delete reference_;
+  }
+  static fs::path* reference_;
+};
+
+fs::path* Restart::reference_ = nullptr;
+
+} // namespace
+
+TEST_F(Restart, KilledAtARandomStepContinuesToTheSameFiles) {
+  const fs::path dir = scratch("killed"), out = dir / "out";
+  const pid_t pid = spawn("solve " + case_file + " -o " + out.string() + keys, dir);
+  ASSERT_TRUE(wait_for_checkpoint(out, pid)) << slurp(dir / "stderr.txt");
+  std::mt19937 random(std::random_device{}());
+  std::this_thread::sleep_for(
+      std::chrono::milliseconds(std::uniform_int_distribution<int>(0, 1500)(random)));
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run ended before it could be killed";
+
+  // Every file readable as it was left.
+  const auto meta = sphfem::read_checkpoint_meta(out / "checkpoint.h5");
+  EXPECT_GT(meta.steps, 0);
+  EXPECT_EQ(meta.steps % 100, 0);
+  EXPECT_GT(sphfem::post::read_history_csv(out / "history.csv").rows(), 0u);
+  for (const auto& [time, frame] : sphfem::post::read_pvd(out / "results.pvd"))
+    EXPECT_TRUE(fs::exists(out / frame)) << frame;
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_NE(entry.path().extension(), ".tmp") << entry.path();
+
+  ASSERT_EQ(run("solve " + case_file + " -o " + out.string() + keys + " --restart " +
+                    (out / "checkpoint.h5").string(),
+                dir),
+            0)
+      << slurp(dir / "stderr.txt");
+  expect_same_as_uninterrupted(out, *reference_);
+  if (!HasFailure())
+    fs::remove_all(dir);
+}
+
+TEST_F(Restart, SigintCheckpointsSaysHowToContinueAndResumes) {
+  const fs::path dir = scratch("sigint"), out = dir / "out";
+  const pid_t pid = spawn("solve " + case_file + " -o " + out.string() + keys, dir);
+  ASSERT_TRUE(wait_for_checkpoint(out, pid)) << slurp(dir / "stderr.txt");
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+  const std::string message = slurp(dir / "stderr.txt");
+  EXPECT_NE(message.find("interrupted by SIGINT at t = "), std::string::npos) << message;
+  EXPECT_NE(message.find("--restart " + (out / "checkpoint.h5").string()), std::string::npos)
+      << message;
+  // The checkpoint is that of the step the signal interrupted, not of the last periodic one.
+  const auto meta = sphfem::read_checkpoint_meta(out / "checkpoint.h5");
+  EXPECT_GT(meta.steps, 0);
+  EXPECT_LT(meta.time, 1e-3);
+
+  ASSERT_EQ(run("solve " + case_file + " -o " + out.string() + keys + " --restart " +
+                    (out / "checkpoint.h5").string(),
+                dir),
+            0)
+      << slurp(dir / "stderr.txt");
+  expect_same_as_uninterrupted(out, *reference_);
+  if (!HasFailure())
+    fs::remove_all(dir);
+}
+
+TEST_F(Restart, OtherPhysicsIsRefusedAndNothingIsTouched) {
+  const fs::path dir = scratch("refused"), out = dir / "out";
+  fs::copy(*reference_, out, fs::copy_options::recursive);
+  const std::string before = slurp(out / "checkpoint.h5"), model = slurp(out / "model.h5");
+  const std::string restart = " --restart " + (out / "checkpoint.h5").string();
+  EXPECT_EQ(run("solve " + case_file + " -o " + out.string() + keys +
+                    " --set bodies.bar_a.velocity=[0,0,150]" + restart,
+                dir),
+            1);
+  const std::string message = slurp(dir / "stderr.txt");
+  EXPECT_NE(message.find("the case's physics differs from the checkpoint's"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("bodies.bar_a.velocity.2: checkpoint 200, case 150"), std::string::npos)
+      << message;
+  // A different spacing would re-mesh: refused before model.h5 is replaced.
+  EXPECT_EQ(run("solve " + case_file + " -o " + out.string() + keys +
+                    " --set bodies.bar_b.element_size=0.005" + restart,
+                dir),
+            1);
+  EXPECT_TRUE(slurp(out / "checkpoint.h5") == before) << "the checkpoint was touched";
+  EXPECT_TRUE(slurp(out / "model.h5") == model) << "model.h5 was touched";
+  // Output-only keys may change: a longer end time continues from the end checkpoint.
+  EXPECT_EQ(run("solve " + case_file + " -o " + out.string() + keys +
+                    " --set time.end=1.1e-3 --set output.frames=false" + restart,
+                dir),
+            0)
+      << slurp(dir / "stderr.txt");
+  EXPECT_NEAR(nlohmann::json::parse(slurp(out / "summary.json"))["time"].get<double>(), 1.1e-3,
+              1e-12);
+  if (!HasFailure())
+    fs::remove_all(dir);
+}

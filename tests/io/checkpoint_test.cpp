@@ -1,0 +1,208 @@
+// checkpoint.h5 (solver/io/checkpoint.hpp): what persist() stores comes back exactly — numbers,
+// vectors and matrices, structs with padding, text, empty arrays — and every kind of bad file
+// (absent, not HDF5, truncated, another format or version, a field missing or of another
+// layout) is a one-line Error naming the file, never a crash. The model fingerprint changes with
+// the model's content and not with anything else.
+#include "solver/core/error.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/material/material_point.hpp"
+
+#include <gtest/gtest.h>
+
+#include <H5Cpp.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using namespace sphfem;
+
+namespace {
+
+struct Folder {
+  fs::path dir = fs::temp_directory_path() / ("sphfem_checkpoint_" + std::to_string(::getpid()));
+  Folder() { fs::create_directories(dir); }
+  ~Folder() { fs::remove_all(dir); }
+};
+
+// A little of everything a run persists.
+struct State {
+  double time = 0;
+  long long steps = 0;
+  std::vector<Vec3> x;
+  std::vector<Mat3> S;
+  std::vector<MaterialPoint> point;
+  std::vector<int> empty;
+  std::string frames;
+
+  void persist(StateArchive& a) {
+    a.value("simulation/time", time);
+    a.value("simulation/steps", steps);
+    a.array("particles/x_p", x);
+    a.array("particles/S_p", S);
+    a.array("elements/point_e", point);
+    a.array("particles/empty", empty);
+    a.text("run/frames", frames);
+  }
+};
+
+State sample() {
+  State s;
+  s.time = 1.0 / 3.0;
+  s.steps = 123456789012LL;
+  s.x = {Vec3(1e-300, -0.0, 5.0), Vec3(std::nextafter(1.0, 2.0), 2, 3)};
+  s.S = {Mat3::Random(), Mat3::Random()};
+  MaterialPoint p;
+  p.plastic_strain = 0.25, p.damage = 0.5, p.temperature = 400, p.failed = true;
+  s.point = {p, MaterialPoint{}};
+  s.frames = "0 0 frames/fe_000000.vtu\n1e-05 1 frames/sph_000001.vtu\n";
+  return s;
+}
+
+CheckpointMeta meta() {
+  return {
+      2.5e-5, 77, 2, "model fingerprint", {{"time.cfl", "0.5"}, {"bodies.bar.spacing", "1e-3"}}};
+}
+
+std::string error_of(const fs::path& file) {
+  try {
+    State s;
+    read_checkpoint(file, [&](StateArchive& a) { s.persist(a); });
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+Model small_model() {
+  Model m;
+  m.body_names = {"plate"};
+  m.x_n = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
+  m.body_n = {0, 0};
+  m.x_p = {Vec3(0.5, 0.5, 0.5)};
+  m.m_p = {1.0};
+  return m;
+}
+
+} // namespace
+
+TEST(Checkpoint, FieldsComeBackBitForBit) {
+  const Folder f;
+  const fs::path file = f.dir / "checkpoint.h5";
+  State written = sample();
+  write_checkpoint(file, meta(), [&](StateArchive& a) { written.persist(a); });
+  EXPECT_FALSE(fs::exists(f.dir / "checkpoint.h5.tmp"));
+
+  const CheckpointMeta m = read_checkpoint_meta(file);
+  EXPECT_EQ(m.time, 2.5e-5);
+  EXPECT_EQ(m.steps, 77);
+  EXPECT_EQ(m.threads, 2);
+  EXPECT_EQ(m.model, "model fingerprint");
+  EXPECT_EQ(m.case_keys, meta().case_keys);
+
+  State read;
+  read.empty = {1, 2, 3}; // replaced by the stored (empty) array
+  read_checkpoint(file, [&](StateArchive& a) { read.persist(a); });
+  EXPECT_EQ(read.time, written.time);
+  EXPECT_EQ(read.steps, written.steps);
+  ASSERT_EQ(read.x.size(), 2u);
+  EXPECT_EQ(read.x[0], written.x[0]);
+  EXPECT_EQ(read.x[1], written.x[1]);
+  EXPECT_TRUE(std::signbit(read.x[0].y())); // −0 stays −0: bytes, not decimal text
+  EXPECT_EQ(read.S[1], written.S[1]);
+  EXPECT_EQ(read.point[0].plastic_strain, 0.25);
+  EXPECT_EQ(read.point[0].temperature, 400);
+  EXPECT_TRUE(read.point[0].failed);
+  EXPECT_FALSE(read.point[1].failed);
+  EXPECT_TRUE(read.empty.empty());
+  EXPECT_EQ(read.frames, written.frames);
+}
+
+TEST(Checkpoint, ANewCheckpointReplacesTheOldOnlyWhenComplete) {
+  const Folder f;
+  const fs::path file = f.dir / "checkpoint.h5";
+  State first = sample();
+  write_checkpoint(file, meta(), [&](StateArchive& a) { first.persist(a); });
+  // A write that fails half-way (here: a field an archive cannot hold twice) leaves the
+  // previous checkpoint in place and readable.
+  EXPECT_THROW(write_checkpoint(file, meta(),
+                                [&](StateArchive& a) {
+                                  first.persist(a);
+                                  first.persist(a);
+                                }),
+               Error);
+  EXPECT_EQ(read_checkpoint_meta(file).steps, 77);
+  EXPECT_EQ(error_of(file), "");
+  EXPECT_FALSE(fs::exists(f.dir / "checkpoint.h5.tmp"));
+}
+
+TEST(Checkpoint, BadFilesAreOneLineErrors) {
+  const Folder f;
+  const fs::path good = f.dir / "checkpoint.h5";
+  State s = sample();
+  write_checkpoint(good, meta(), [&](StateArchive& a) { s.persist(a); });
+
+  const fs::path text = f.dir / "text.h5";
+  std::ofstream(text) << "not a checkpoint\n";
+  const fs::path truncated = f.dir / "truncated.h5";
+  {
+    std::ifstream in(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  const fs::path other = f.dir / "other.h5"; // an HDF5 file of another kind
+  H5::H5File(other.string(), H5F_ACC_TRUNC).close();
+  const fs::path version = f.dir / "version.h5";
+  fs::copy_file(good, version);
+  {
+    H5::H5File h5(version.string(), H5F_ACC_RDWR);
+    const int two = 2;
+    h5.openAttribute("version").write(H5::PredType::NATIVE_INT, &two);
+  }
+
+  EXPECT_NE(error_of(f.dir / "absent.h5").find("absent.h5\": no such file"), std::string::npos);
+  EXPECT_NE(error_of(f.dir).find("not a regular file"), std::string::npos);
+  EXPECT_NE(error_of(text).find("text.h5\": not an HDF5 file"), std::string::npos);
+  EXPECT_NE(error_of(truncated).find("truncated.h5\": "), std::string::npos);
+  EXPECT_NE(error_of(other).find("other.h5\": not a checkpoint"), std::string::npos);
+  EXPECT_NE(error_of(version).find("checkpoint version 2, this sphfem reads 1"), std::string::npos);
+  EXPECT_THROW(read_checkpoint_meta(truncated), Error);
+
+  // A field that is absent, or stored with another element size (another build's layout).
+  try {
+    read_checkpoint(good, [](StateArchive& a) {
+      std::vector<double> v;
+      a.array("particles/rho_p", v);
+    });
+    ADD_FAILURE() << "a missing field was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("field particles/rho_p is missing"), std::string::npos)
+        << e.what();
+  }
+  try {
+    read_checkpoint(good, [](StateArchive& a) {
+      std::vector<float> v; // stored as Vec3 (24 bytes)
+      a.array("particles/x_p", v);
+    });
+    ADD_FAILURE() << "a field of another layout was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("elements of 24 bytes, this build's are 4"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Checkpoint, ModelFingerprintFollowsTheContent) {
+  const Model a = small_model();
+  Model moved = a, renamed = a;
+  moved.x_n[1].x() = std::nextafter(1.0, 2.0);
+  renamed.body_names = {"plat"};
+  EXPECT_EQ(model_fingerprint(a), model_fingerprint(small_model()));
+  EXPECT_NE(model_fingerprint(a), model_fingerprint(moved));
+  EXPECT_NE(model_fingerprint(a), model_fingerprint(renamed));
+  EXPECT_NE(model_fingerprint(a).find("2 nodes, 0 hexahedra, 1 particles"), std::string::npos);
+}
