@@ -116,7 +116,7 @@ int run_command_line(int argc, char** argv) {
       "output.checkpoint.wall_s seconds (default 600), and when stopped by SIGINT/SIGTERM\n"
       "(Ctrl-C: it finishes the step, writes the checkpoint and exits with 130/143). Continue:\n"
       "  sphfem solve CASE -o OUT --restart OUT/checkpoint.h5 [--set time.end=...]\n"
-      "With the same thread count the continued run writes what an uninterrupted one would.");
+      "The continued run writes what an uninterrupted one would, bit for bit.");
   auto* run = app.add_subcommand("run", "mesh + solve: the one-command pipeline");
   add_common(*run, run_o);
 

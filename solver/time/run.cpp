@@ -114,7 +114,7 @@ void check_restart(const std::filesystem::path& file, const CheckpointMeta& meta
   if (meta.threads != thread_count())
     log.line("note: the checkpoint was written with " + std::to_string(meta.threads) +
              " threads, this run has " + std::to_string(thread_count()) +
-             ": results continue, but not bit for bit as the uninterrupted run");
+             " (results do not depend on the thread count: tests/e2e/determinism_test.cpp)");
 }
 
 } // namespace

@@ -4,8 +4,8 @@
 // the end) — with progress on long runs. Stops with an Error (and keeps the frames written so
 // far) when the run turns unstable. SIGINT/SIGTERM finish the step, write a checkpoint and throw
 // Interrupted. With a restart file it continues that checkpoint's run: refused if the case's
-// physics keys or the model differ from the checkpoint's; with the same thread count the
-// continued run writes what the uninterrupted one would, bit for bit (but wall times).
+// physics keys or the model differ from the checkpoint's; the continued run writes what the
+// uninterrupted one would, bit for bit (but wall times; tests/e2e/restart_test.cpp).
 #pragma once
 
 #include "solver/core/error.hpp"

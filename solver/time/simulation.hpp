@@ -76,7 +76,7 @@ public:
 
   // Checkpoint: time, step, the balances' accumulators and every node, element and particle
   // field; reading it into a simulation built from the same case and model continues that run
-  // bit for bit (same thread count).
+  // bit for bit.
   void persist(StateArchive& a);
 
 private:
