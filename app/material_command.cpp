@@ -77,7 +77,7 @@ std::string csv_text(const MaterialCommandOptions& o, const std::vector<DriverRo
 }
 
 void write_chart(const post::LineChart& chart, const fs::path& file) {
-  write_atomically(file, [&chart](const fs::path& temporary) { chart.write_png(temporary); });
+  chart.write_png(file);
 }
 
 // The von Mises stress against strain; with damage, a second chart <stem>_damage.png of plastic

@@ -2,13 +2,14 @@
 
 #include "post/line_chart.hpp"
 #include "solver/core/error.hpp"
+#include "solver/io/atomic_file.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <regex>
+#include <sstream>
 
 namespace sphfem::post {
 
@@ -203,8 +204,7 @@ std::vector<HistoryPlot> plot_history(const HistoryPlotOptions& o) {
     chart.set_y_label(column + unit_suffix);
     const HistoryPlot plot{column, dir / (file_name(column) + ".png"),
                            dir / (file_name(column) + ".csv")};
-    std::ofstream csv(plot.csv);
-    SPHFEM_CHECK(csv, plot.csv.string(), ": cannot write");
+    std::ostringstream csv;
     const std::string csv_unit = column == "dt" ? o.time_unit : unit.unit; // ASCII
     csv << "series," << time_header << ","
         << csv_field(column + (csv_unit.empty() ? "" : " [" + csv_unit + "]")) << "\n";
@@ -218,7 +218,7 @@ std::vector<HistoryPlot> plot_history(const HistoryPlotOptions& o) {
       add(runs[i].label, runs[i].history, {LineChart::palette(i), 2.0, false});
     if (reference.values.count(column))
       add(reference_label, reference, {{0, 0, 0}, 1.5, true});
-    SPHFEM_CHECK(csv.flush(), plot.csv.string(), ": cannot write");
+    write_text_atomically(plot.csv, csv.str());
     chart.write_png(plot.png);
     written.push_back(plot);
   }

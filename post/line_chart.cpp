@@ -1,6 +1,7 @@
 #include "post/line_chart.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/io/atomic_file.hpp"
 
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -382,11 +383,13 @@ void LineChart::write_png(const std::filesystem::path& file) const {
   const std::size_t row = std::size_t(width_) * 3;
   for (int y = 0; y < height_; ++y) // VTK images count rows from the bottom
     std::copy_n(&rgb[std::size_t(height_ - 1 - y) * row], row, out + std::size_t(y) * row);
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(file.string().c_str());
-  writer->SetInputData(image);
-  writer->Write();
-  SPHFEM_CHECK(writer->GetErrorCode() == 0, file.string(), ": cannot write the PNG");
+  write_atomically(file, [&](const std::filesystem::path& temporary) {
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(temporary.string().c_str());
+    writer->SetInputData(image);
+    writer->Write();
+    SPHFEM_CHECK(writer->GetErrorCode() == 0, file.string(), ": cannot write the PNG");
+  });
 }
 
 } // namespace sphfem::post

@@ -6,6 +6,7 @@
 #include "post/post.hpp"
 #include "solver/core/error.hpp"
 #include "solver/fem/hex8.hpp"
+#include "solver/io/atomic_file.hpp"
 #include "solver/io/model_h5.hpp"
 
 #include <nlohmann/json.hpp>
@@ -21,9 +22,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <map>
+#include <sstream>
 
 namespace sphfem::post {
 
@@ -392,11 +393,9 @@ PlugResult write_plug(const PlugOptions& o) {
   j["main"] = r.main < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.main);
   j["plug"] = r.plug < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.plug);
   j["projectile_passed_through"] = r.passed_through;
-  std::ofstream json(r.json);
-  json << j.dump(2) << "\n";
-  SPHFEM_CHECK(json.flush(), r.json.string(), ": cannot write");
+  write_text_atomically(r.json, j.dump(2) + "\n");
 
-  std::ofstream csv(r.csv);
+  std::ostringstream csv;
   csv << "fragment,role,mass [kg],com_x [m],com_y [m],com_z [m],vx [m/s],vy [m/s],vz [m/s],"
          "v_axial [m/s],particles,elements,diameter [m],thickness [m]\n";
   for (std::size_t f = 0; f < r.fragments.size(); ++f) {
@@ -412,7 +411,7 @@ PlugResult write_plug(const PlugOptions& o) {
     csv << "," << number(x.velocity.dot(r.impact_axis)) << "," << x.particles << "," << x.elements
         << "," << number(x.diameter) << "," << number(x.thickness) << "\n";
   }
-  SPHFEM_CHECK(csv.flush(), r.csv.string(), ": cannot write");
+  write_text_atomically(r.csv, csv.str());
 
   write_chart(r, source, set, spacing, o);
   return r;

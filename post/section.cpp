@@ -6,6 +6,7 @@
 #include "post/particle_outline.hpp"
 #include "post/post.hpp"
 #include "solver/core/error.hpp"
+#include "solver/io/atomic_file.hpp"
 #include "solver/io/model_h5.hpp"
 
 #include <nlohmann/json.hpp>
@@ -26,10 +27,10 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <numbers>
 #include <set>
+#include <sstream>
 
 namespace sphfem::post {
 
@@ -340,14 +341,9 @@ std::string number(double v) {
   return buffer;
 }
 
-std::ofstream open_file(const fs::path& file) {
-  std::ofstream out(file);
-  SPHFEM_CHECK(out, file.string(), ": cannot write");
-  return out;
-}
-
-void finish(std::ofstream& out, const fs::path& file) {
-  SPHFEM_CHECK(out.flush(), file.string(), ": cannot write");
+// Writes a text file's content, whole or not at all (a temporary, then renamed).
+void finish(const std::ostringstream& out, const fs::path& file) {
+  write_text_atomically(file, out.str());
 }
 
 // "Section y = 25 mm" for a plane normal to a coordinate axis, else "Section".
@@ -451,7 +447,7 @@ SectionResult write_section(const SectionOptions& o) {
                        dir / "section.png",  dir / "deflection.csv",
                        dir / "section.json", {}};
 
-  std::ofstream csv = open_file(result.csv);
+  std::ostringstream csv;
   csv << "# section at t = " << number(frame.time) << " s through point " << vec_text(plane.point)
       << " m with unit normal n = " << vec_text(plane.n) << "; w along " << vec_text(plane.w)
       << " (deflection axis in the plane), u = w x n = " << vec_text(plane.u)
@@ -506,7 +502,7 @@ SectionResult write_section(const SectionOptions& o) {
   finish(csv, result.csv);
   chart.write_png(result.png);
 
-  std::ofstream deflection = open_file(result.deflection_csv);
+  std::ostringstream deflection;
   deflection << "# displacement along w = " << vec_text(plane.w)
              << " averaged in bins of |u| (distance in m from the plane's point along u = "
              << vec_text(plane.u) << ")\nbody,radius_m,deflection_m\n";
@@ -523,7 +519,7 @@ SectionResult write_section(const SectionOptions& o) {
                          {"bodies", json_bodies}};
   if (o.u_range)
     json["u_range_m"] = {(*o.u_range)[0], (*o.u_range)[1]};
-  std::ofstream json_out = open_file(result.json);
+  std::ostringstream json_out;
   json_out << json.dump(2) << "\n";
   finish(json_out, result.json);
   return result;

@@ -293,7 +293,7 @@ void write_chart(const Sweep& s, const std::vector<SweepRun>& runs, const fs::pa
     add_points(s.comparisons[k].label, s.comparisons[k],
                {LineChart::palette(2 + k), 0.0, false, 5.0});
   chart.add_series("runs", x, y, {LineChart::palette(0), 0.0, false, 4.0});
-  write_atomically(png, [&chart](const fs::path& temporary) { chart.write_png(temporary); });
+  chart.write_png(png);
 }
 
 std::string html_text(const Sweep& s, const std::vector<SweepRun>& runs,
