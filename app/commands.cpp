@@ -73,15 +73,20 @@ Model mesh_and_write(const Case& c, const fs::path& out, bool quiet) {
   return model;
 }
 
-// OUT/model.h5 if it exists and was made from the same mesh keys, else a fresh mesh.
+// OUT/model.h5 if it exists, is readable and was made from the same mesh keys, else a fresh mesh.
 Model current_model(const Case& c, const fs::path& out, bool quiet) {
   const fs::path file = out / "model.h5";
   if (fs::exists(file)) {
-    Model model = read_model_h5(file);
-    if (model.signature == mesh_signature(c))
-      return model;
-    if (!quiet)
-      std::cerr << "mesh: " << file.string() << " is stale (the case's mesh keys changed)\n";
+    try {
+      Model model = read_model_h5(file);
+      if (model.signature == mesh_signature(c))
+        return model;
+      if (!quiet)
+        std::cerr << "mesh: " << file.string() << " is stale (the case's mesh keys changed)\n";
+    } catch (const Error& e) { // model.h5 is made from the case: an unreadable one is remade
+      if (!quiet)
+        std::cerr << "mesh: re-meshing, " << e.what() << "\n";
+    }
   }
   return mesh_and_write(c, out, quiet);
 }

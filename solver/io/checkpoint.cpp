@@ -76,6 +76,9 @@ private:
     SPHFEM_CHECK(stored == static_cast<int>(element) && dims[1] == element, "field ", name,
                  ": elements of ", stored, " bytes, this build's are ", element,
                  " (a checkpoint of another build or version)");
+    // A corrupt header may claim any extent: refused unless the bytes are there.
+    SPHFEM_CHECK(static_cast<double>(dims[0]) * element <= double(dataset.getStorageSize()),
+                 "field ", name, " claims more data than the file holds: the file is corrupt");
     return dims;
   }
 
@@ -106,8 +109,13 @@ template <class Read> auto read_file(const fs::path& file, Read read) {
     H5::H5File h5(file.string(), H5F_ACC_RDONLY);
     SPHFEM_CHECK(h5.attrExists("format") && h5.attrExists("version"),
                  "not a checkpoint (no format attribute)");
-    std::string format;
-    h5.openAttribute("format").read(H5::StrType(H5::PredType::C_S1, H5T_VARIABLE), format);
+    const H5::Attribute attribute = h5.openAttribute("format");
+    const std::size_t bytes = attribute.getStorageSize();
+    SPHFEM_CHECK(attribute.getTypeClass() == H5T_STRING &&
+                     !attribute.getStrType().isVariableStr() && bytes < 256,
+                 "not a checkpoint (its format attribute is not a short string)");
+    std::string format(bytes, '\0');
+    attribute.read(attribute.getStrType(), format.data());
     SPHFEM_CHECK(format == format_name, "not a checkpoint (format \"", format, "\")");
     int version = 0;
     h5.openAttribute("version").read(H5::PredType::NATIVE_INT, &version);
@@ -143,9 +151,10 @@ void write_checkpoint(const fs::path& file, const CheckpointMeta& meta,
     const Hdf5Errors errors;
     try {
       H5::H5File h5(temporary.string(), H5F_ACC_TRUNC);
-      const H5::StrType text(H5::PredType::C_S1, H5T_VARIABLE);
+      const std::string format = format_name;
+      const H5::StrType text(H5::PredType::C_S1, format.size());
       const H5::DataSpace scalar(H5S_SCALAR);
-      h5.createAttribute("format", text, scalar).write(text, std::string(format_name));
+      h5.createAttribute("format", text, scalar).write(text, format.data());
       h5.createAttribute("version", H5::PredType::STD_I32LE, scalar)
           .write(H5::PredType::NATIVE_INT, &format_version);
       H5Archive archive(h5, false);

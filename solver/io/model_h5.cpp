@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <system_error>
 
 #ifndef SPHFEM_VERSION
@@ -24,7 +25,10 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* format_name = "sphfem-model";
-constexpr int format_version = 1;
+// Version 2: strings are fixed-length (version 1's variable-length strings let a corrupt file
+// make HDF5 allocate gigabytes before any check of ours could run; found by fuzzing).
+constexpr int format_version = 2;
+constexpr std::size_t longest_string = 65536; // bytes, for a name, signature or unit
 constexpr hsize_t chunk_rows = 16384; // datasets longer than this are chunked and compressed
 
 // HDF5 types per C++ element type: in memory, in the file, and the class a reader accepts.
@@ -40,9 +44,11 @@ template <> struct H5Type<Index> {
   static constexpr H5T_class_t type_class = H5T_INTEGER;
 };
 
-H5::StrType string_type() {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+// A fixed-length UTF-8 string type holding `bytes` (at least 1: HDF5 has no empty type).
+H5::StrType string_type(std::size_t bytes) {
+  H5::StrType type(H5::PredType::C_S1, std::max<std::size_t>(bytes, 1));
   type.setCset(H5T_CSET_UTF8);
+  type.setStrpad(H5T_STR_NULLPAD);
   return type;
 }
 
@@ -57,8 +63,8 @@ void check_indices(const Range& indices, std::size_t count, const std::string& w
 
 void write_attribute(const H5::H5Object& object, const std::string& name,
                      const std::string& value) {
-  const H5::StrType type = string_type();
-  object.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
+  const H5::StrType type = string_type(value.size());
+  object.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value.data());
 }
 
 void write_attribute(const H5::H5Object& object, const std::string& name, int value) {
@@ -108,14 +114,17 @@ std::vector<double> flatten(const std::vector<Vec3>& points) {
 
 void write_strings(const H5::Group& parent, const std::string& name,
                    const std::vector<std::string>& strings) {
-  std::vector<const char*> pointers;
+  std::size_t width = 1;
   for (const std::string& s : strings)
-    pointers.push_back(s.c_str());
+    width = std::max(width, s.size());
+  std::vector<char> packed(strings.size() * width, '\0');
+  for (std::size_t i = 0; i < strings.size(); ++i)
+    std::copy(strings[i].begin(), strings[i].end(), packed.begin() + i * width);
   const hsize_t n = strings.size();
-  const H5::StrType type = string_type();
+  const H5::StrType type = string_type(width);
   const H5::DataSet dataset = parent.createDataSet(name, type, H5::DataSpace(1, &n));
   if (n > 0)
-    dataset.write(pointers.data(), type);
+    dataset.write(packed.data(), type);
 }
 
 // A set name becomes an HDF5 path, so it must be a '/'-separated list of non-empty parts.
@@ -233,9 +242,16 @@ std::string read_string_attribute(const H5::H5Object& object, const std::string&
   SPHFEM_CHECK(object.attrExists(name), "missing attribute '", name, "'");
   const H5::Attribute attribute = object.openAttribute(name);
   SPHFEM_CHECK(attribute.getTypeClass() == H5T_STRING, "attribute '", name, "' is not a string");
-  std::string value;
-  attribute.read(attribute.getStrType(), value);
-  return value;
+  const H5::StrType type = attribute.getStrType();
+  SPHFEM_CHECK(!type.isVariableStr(), "attribute '", name,
+               "' is a variable-length string: a model.h5 of an older sphfem (format 1); "
+               "re-mesh with `sphfem mesh`");
+  const std::size_t bytes = type.getSize();
+  SPHFEM_CHECK(bytes <= longest_string && attribute.getSpace().getSimpleExtentNpoints() == 1,
+               "attribute '", name, "' is not one string of at most ", longest_string, " bytes");
+  std::vector<char> value(bytes, '\0');
+  attribute.read(type, value.data());
+  return {value.data(), strnlen(value.data(), bytes)};
 }
 
 int read_int_attribute(const H5::H5Object& object, const std::string& name) {
@@ -261,6 +277,21 @@ H5::DataSet open_dataset(const H5::Group& parent, const std::string& path) {
 }
 
 // Reads a rows × cols dataset (1-D when cols == 0), checking its type class and shape.
+// A corrupt header may claim any extent; data cannot expand beyond what its stored bytes can
+// (deflate at most 1 032:1), nor be stored in more bytes than the file has. Checked before
+// anything is allocated for it.
+void check_stored(const H5::DataSet& dataset, const std::string& path, double bytes) {
+  const hid_t file = H5Iget_file_id(dataset.getId());
+  hsize_t file_bytes = 0;
+  H5Fget_filesize(file, &file_bytes);
+  H5Fclose(file);
+  // The storage a header claims cannot exceed the file either.
+  const double stored =
+      static_cast<double>(std::min<hsize_t>(dataset.getStorageSize(), file_bytes));
+  SPHFEM_CHECK(bytes <= 1100.0 * stored + 4096.0, "dataset '", path, "' claims ", bytes,
+               " bytes but stores ", stored, ": the file is corrupt");
+}
+
 template <class T>
 std::vector<T> read_array(const H5::Group& parent, const std::string& path, hsize_t cols = 0) {
   const H5::DataSet dataset = open_dataset(parent, path);
@@ -274,6 +305,13 @@ std::vector<T> read_array(const H5::Group& parent, const std::string& path, hsiz
   space.getSimpleExtentDims(dims.data());
   SPHFEM_CHECK(cols == 0 || dims[1] == cols, "dataset '", path, "' must have ", cols,
                " columns, not ", dims[1]);
+  // HDF5 converts through a buffer of the file's element size: a corrupt type may claim any.
+  const std::size_t file_element = dataset.getDataType().getSize();
+  SPHFEM_CHECK(file_element <= 16, "dataset '", path, "' has elements of ", file_element,
+               " bytes (at most 16 for a number)");
+  check_stored(dataset, path,
+               static_cast<double>(dims[0]) * std::max<hsize_t>(cols, 1) *
+                   std::max(file_element, sizeof(T)));
   std::vector<T> values(dims[0] * std::max<hsize_t>(cols, 1));
   if (!values.empty())
     dataset.read(values.data(), H5Type<T>::memory());
@@ -302,13 +340,23 @@ std::vector<std::string> read_strings(const H5::Group& parent, const std::string
   const H5::DataSpace space = dataset.getSpace();
   SPHFEM_CHECK(dataset.getTypeClass() == H5T_STRING && space.getSimpleExtentNdims() == 1,
                "dataset '", path, "' must be a list of strings");
-  const H5::StrType type = string_type();
-  std::vector<char*> raw(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
-  if (raw.empty())
-    return {};
-  dataset.read(raw.data(), type);
-  std::vector<std::string> strings(raw.begin(), raw.end());
-  H5::DataSet::vlenReclaim(raw.data(), type, space);
+  const H5::StrType type = dataset.getStrType();
+  SPHFEM_CHECK(!type.isVariableStr(), "dataset '", path,
+               "' holds variable-length strings: a model.h5 of an older sphfem (format 1); "
+               "re-mesh with `sphfem mesh`");
+  const std::size_t width = type.getSize();
+  const auto n = static_cast<std::size_t>(space.getSimpleExtentNpoints());
+  SPHFEM_CHECK(width <= longest_string, "dataset '", path, "' holds strings of ", width,
+               " bytes (at most ", longest_string, ")");
+  check_stored(dataset, path, static_cast<double>(n) * width);
+  std::vector<char> packed(n * width, '\0');
+  if (n > 0)
+    dataset.read(packed.data(), type);
+  std::vector<std::string> strings;
+  for (std::size_t i = 0; i < n; ++i) {
+    const char* s = packed.data() + i * width;
+    strings.emplace_back(s, strnlen(s, width));
+  }
   return strings;
 }
 

@@ -289,6 +289,29 @@ TEST(CaseReader, ReadsTheSectionPlaneAndItsWindow) {
       "case.yaml:11: output.section.u_range: ", "must be [u0, u1] with u0 < u1, got [0.05, 0]"));
 }
 
+// output.checkpoint: how often OUT/checkpoint.h5 is written; Case::keys: the case as parsed,
+// which a checkpoint records and a restart compares.
+TEST(CaseReader, ReadsTheCheckpointCadenceAndKeepsTheKeys) {
+  const Case defaults = read_case_text(kMinimal, "case.yaml");
+  EXPECT_EQ(defaults.output.checkpoint.steps, 0);
+  EXPECT_EQ(defaults.output.checkpoint.wall_s, 600);
+  const Case c = read_case_text(kMinimal + "output: {checkpoint: {steps: 50, wall_s: 0}}\n",
+                                "case.yaml", {"time.cfl=0.5"});
+  EXPECT_EQ(c.output.checkpoint.steps, 50);
+  EXPECT_EQ(c.output.checkpoint.wall_s, 0);
+  EXPECT_EQ(c.keys.at("time.cfl"), "0.5"); // the override, as given
+  EXPECT_EQ(c.keys.at("bodies.bar.geometry.box.max.2"), "0.1");
+  EXPECT_EQ(c.keys.at("output.checkpoint.steps"), "50");
+  const std::string cadence = "output: {checkpoint: ";
+  EXPECT_TRUE(reports(error_of(kMinimal + cadence + "{steps: 2.5}}\n"),
+                      "case.yaml:11: output.checkpoint.steps: ",
+                      "must be a whole number of steps >= 0 (0: not by steps), got 2.5"));
+  EXPECT_TRUE(reports(
+      error_of(kMinimal + cadence + "{wall_s: -1}}\n"),
+      "case.yaml:11: output.checkpoint.wall_s: ", "must be >= 0 s (0: not by time), got -1"));
+  EXPECT_TRUE(reports(error_of(kMinimal + cadence + "{every: 5}}\n"), "case.yaml:11: ", "every"));
+}
+
 TEST(CaseReader, RejectsEmptyBox) {
   EXPECT_TRUE(
       reports(error_of(edited(kMinimal, "max: [0.005, 0.005, 0.1]", "max: [0.005, 0, 0.1]")),

@@ -443,7 +443,7 @@ TEST_F(ModelFiles, IsSelfDescribing) {
   EXPECT_EQ(text(h5, "generator").rfind("sphfem ", 0), 0u);
   int version = 0;
   h5.openAttribute("format_version").read(H5::PredType::NATIVE_INT, &version);
-  EXPECT_EQ(version, 1);
+  EXPECT_EQ(version, 2);
   EXPECT_EQ(text(h5.openDataSet("nodes/x"), "units"), "m");
   EXPECT_EQ(text(h5.openDataSet("elements/hex"), "node_order"), "gmsh hexahedron");
   EXPECT_TRUE(h5.nameExists("node_sets/bar/zmin"));
@@ -461,13 +461,37 @@ TEST_F(ModelFiles, UnwritablePathIsAnError) {
 }
 
 TEST_F(ModelFiles, WrongFormatVersionIsRejected) {
-  const fs::path file = damaged("v2.h5", [](H5::H5File& h5) {
+  const fs::path file = damaged("v3.h5", [](H5::H5File& h5) {
     h5.removeAttr("format_version");
-    const int two = 2;
+    const int three = 3;
     h5.createAttribute("format_version", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
-        .write(H5::PredType::NATIVE_INT, &two);
+        .write(H5::PredType::NATIVE_INT, &three);
   });
-  expect_read_error(file, "format_version 2 is not supported");
+  expect_read_error(file, "format_version 3 is not supported");
+}
+
+// Format 1 stored variable-length strings, through which a corrupt file could make HDF5
+// allocate gigabytes before any check ran (found by fuzz/fuzz_model_h5): refused with advice.
+TEST_F(ModelFiles, OlderFormatWithVariableLengthStringsIsRefused) {
+  const fs::path file = damaged("v1.h5", [](H5::H5File& h5) {
+    h5.removeAttr("format");
+    const H5::StrType vlen(H5::PredType::C_S1, H5T_VARIABLE);
+    h5.createAttribute("format", vlen, H5::DataSpace(H5S_SCALAR))
+        .write(vlen, std::string("sphfem-model"));
+  });
+  expect_read_error(file, "attribute 'format' is a variable-length string: a model.h5 of an "
+                          "older sphfem (format 1); re-mesh with `sphfem mesh`");
+}
+
+// A header claiming more data than the file stores is refused before anything is allocated.
+TEST_F(ModelFiles, ExtentBeyondTheStoredDataIsRefused) {
+  const fs::path file = damaged("huge.h5", [](H5::H5File& h5) {
+    h5.unlink("nodes/x");
+    const hsize_t dims[2] = {hsize_t(1) << 40, 3};
+    h5.createDataSet("nodes/x", H5::PredType::IEEE_F64LE, H5::DataSpace(2, dims));
+  });
+  expect_read_error(file, "dataset 'nodes/x' claims 2.63883e+13 bytes but stores 0: the file is "
+                          "corrupt");
 }
 
 TEST_F(ModelFiles, ForeignHdf5FileIsRejected) {

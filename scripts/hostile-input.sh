@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Hostile input (issue 9), what CI runs after scripts/test.sh:
+#  1. the whole project built with AddressSanitizer and UndefinedBehaviorSanitizer (g++, -O1) in
+#     build-asan/, and the unit tests run there;
+#  2. the two readers of user files fuzzed with libFuzzer (clang; only the fuzz targets and the
+#     solver library are built, in build-fuzz/) for FUZZ_SECONDS each (default 60): the case
+#     reader from every case file, the model.h5 reader from meshes of three small cases, both
+#     also from fuzz/regressions/.
+# A crash stops the script non-zero and leaves the input in build-fuzz/crashes/<target>/; copy it
+# into fuzz/regressions/<target>/ so that tests/io/fuzz_regression_test.cpp replays it.
+#   scripts/hostile-input.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+jobs=$(nproc)
+
+# 1. Sanitizers on the unit tests (the case tests run in scripts/test.sh's optimised build).
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
+  -DSPHFEM_SANITIZE=ON -DSPHFEM_BENCH=OFF >/dev/null
+cmake --build build-asan -j "$jobs"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
+ctest --test-dir build-asan -L unit -j "$jobs" --output-on-failure
+
+# 2. Fuzzing. malloc returns null for a size beyond reason, as glibc's does (HDF5 then fails
+# cleanly); a run that really grows past 2 GB or takes 10 s on one input is a finding.
+export ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1
+CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_CXX_FLAGS_RELEASE="-O1" -DSPHFEM_FUZZ=ON -DSPHFEM_TESTS=OFF -DSPHFEM_BENCH=OFF \
+  >/dev/null
+cmake --build build-fuzz -j "$jobs" --target fuzz_case_reader fuzz_model_h5
+corpus=build-fuzz/corpus
+rm -rf "$corpus" && mkdir -p "$corpus/case_reader" "$corpus/model_h5"
+find cases -name '*.yaml' -exec cp {} "$corpus/case_reader/" \;
+cp fuzz/regressions/case_reader/* "$corpus/case_reader/"
+for c in bar_pressed_fe bar_pressed_sph bar_impact; do
+  build-asan/app/sphfem mesh "cases/$c/case.yaml" -o "build-fuzz/seed_$c" -q
+  cp "build-fuzz/seed_$c/model.h5" "$corpus/model_h5/$c.h5"
+done
+cp fuzz/regressions/model_h5/* "$corpus/model_h5/"
+for target in case_reader model_h5; do
+  crashes=build-fuzz/crashes/$target
+  rm -rf "$crashes" && mkdir -p "$crashes"
+  echo "fuzz: $target for ${FUZZ_SECONDS:-60} s"
+  log=build-fuzz/fuzz_$target.log
+  if ! "build-fuzz/fuzz/fuzz_$target" "$corpus/$target" -max_total_time="${FUZZ_SECONDS:-60}" \
+    -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=16384 -artifact_prefix="$crashes/" \
+    -print_final_stats=1 2>"$log"; then
+    grep -v '^"' "$log" | tail -40
+    echo "fuzz: $target failed; the input is in $crashes"
+    exit 1
+  fi
+  grep -E "stat::number_of_executed_units" "$log"
+done
+echo "hostile input: sanitized unit tests and fuzzing passed"
