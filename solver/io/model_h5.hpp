@@ -1,9 +1,10 @@
 // model.h5: the meshed Model in a self-describing HDF5 file. Verified by
 // tests/io/model_h5_test.cpp.
 //
-// Layout (format "sphfem-model", format_version 1; indices 0-based int32, coordinates float64):
+// Layout (format "sphfem-model", format_version 2; indices 0-based int32, coordinates float64;
+// strings fixed-length UTF-8, null-padded — version 1's variable-length strings are refused):
 //   /                 attributes format, format_version (int), generator, units, signature
-//   /bodies/names     B variable-length strings; body ids index this list
+//   /bodies/names     B strings; body ids index this list
 //   /bodies/spacing   B lattice spacings Δp (0 for FE bodies), attribute units = "m"
 //   /nodes/x          N×3 reference positions, attribute units = "m"
 //   /nodes/body_id    N
@@ -32,7 +33,9 @@
 // its older model is stale and re-meshed.
 // A set's name maps to an HDF5 path below /node_sets or /face_sets ("bar/zmin" is dataset
 // zmin in group bar), a particle face's to a group below /particle_faces (group zmin in group
-// bar). Large datasets are chunked and compressed (shuffle + deflate).
+// bar). Large datasets are chunked and compressed (shuffle + deflate). Reading checks every
+// dataset's claimed size against its element size and the bytes the file stores before it
+// allocates anything (a corrupt header may claim any extent; fuzz/regressions/model_h5/).
 #pragma once
 
 #include "solver/state/model.hpp"
