@@ -11,7 +11,9 @@
 
 #include <H5Cpp.h>
 
+#include <array>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -193,6 +195,76 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
     EXPECT_NE(std::string(e.what()).find("elements of 24 bytes, this build's are 4"),
               std::string::npos)
         << e.what();
+  }
+}
+
+// A file that is a checkpoint but whose content disagrees with what reading expects.
+TEST(Checkpoint, InconsistentContentIsAnError) {
+  const Folder f;
+  const fs::path file = f.dir / "checkpoint.h5";
+  State s = sample();
+  write_checkpoint(file, meta(), [&](StateArchive& a) { s.persist(a); });
+  const auto error = [&](const std::function<void(StateArchive&)>& read) {
+    try {
+      read_checkpoint(file, read);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // A value where an array of two is stored.
+  EXPECT_NE(error([](StateArchive& a) {
+              Vec3 x;
+              a.value("particles/x_p", x);
+            }).find("field particles/x_p: 2 values stored, 1 expected"),
+            std::string::npos);
+  {
+    H5::H5File h5(file.string(), H5F_ACC_RDWR);
+    const hsize_t three = 3; // a dataset of rank 1 where a field is expected
+    h5.createDataSet("particles/flat", H5::PredType::NATIVE_UCHAR, H5::DataSpace(1, &three));
+    const std::array<hsize_t, 2> dims{1000000, 8}; // claims 8 MB, stores nothing
+    const H5::DataSet claim = h5.createDataSet("particles/claim", H5::PredType::NATIVE_UCHAR,
+                                               H5::DataSpace(2, dims.data()));
+    const int eight = 8;
+    claim.createAttribute("element_bytes", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_INT, &eight);
+    const std::array<hsize_t, 2> one{1, 8};
+    h5.createDataSet("particles/bare", H5::PredType::NATIVE_UCHAR, H5::DataSpace(2, one.data()));
+  }
+  const auto read_doubles = [&](const std::string& name) {
+    return error([&](StateArchive& a) {
+      std::vector<double> v;
+      a.array(name, v);
+    });
+  };
+  EXPECT_NE(read_doubles("particles/flat").find("field particles/flat: not a field"),
+            std::string::npos);
+  EXPECT_NE(read_doubles("particles/claim")
+                .find("field particles/claim claims more data than the file holds"),
+            std::string::npos);
+  EXPECT_NE(read_doubles("particles/bare").find("field particles/bare: no element size"),
+            std::string::npos);
+  // Case keys that are not the JSON object a checkpoint writes.
+  {
+    H5::H5File h5(file.string(), H5F_ACC_RDWR);
+    h5.unlink("meta/case_keys");
+  }
+  {
+    std::string broken = "{not json";
+    H5::H5File h5(file.string(), H5F_ACC_RDWR);
+    const std::array<hsize_t, 2> dims{broken.size(), 1};
+    const H5::DataSet keys = h5.createDataSet("meta/case_keys", H5::PredType::NATIVE_UCHAR,
+                                              H5::DataSpace(2, dims.data()));
+    keys.write(broken.data(), H5::PredType::NATIVE_UCHAR);
+    const int one_byte = 1;
+    keys.createAttribute("element_bytes", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_INT, &one_byte);
+  }
+  try {
+    read_checkpoint_meta(file);
+    ADD_FAILURE() << "broken case keys were read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unreadable case keys"), std::string::npos) << e.what();
   }
 }
 

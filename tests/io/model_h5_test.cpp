@@ -494,6 +494,27 @@ TEST_F(ModelFiles, ExtentBeyondTheStoredDataIsRefused) {
                           "corrupt");
 }
 
+// Element sizes no model writes: a 64-byte "number", a 100 000-byte name. (The same limit on
+// attributes cannot be shown with a file HDF5 writes: it refuses attributes over 64 KiB.)
+TEST_F(ModelFiles, ImplausibleElementSizesAreRefused) {
+  const fs::path wide = damaged("wide.h5", [](H5::H5File& h5) {
+    h5.unlink("nodes/body_id");
+    const hsize_t n = 36;
+    H5::IntType big(H5::PredType::STD_I32LE);
+    big.setSize(64);
+    h5.createDataSet("nodes/body_id", big, H5::DataSpace(1, &n));
+  });
+  expect_read_error(wide, "dataset 'nodes/body_id' has elements of 64 bytes (at most 16 for a "
+                          "number)");
+  const fs::path names = damaged("names.h5", [](H5::H5File& h5) {
+    h5.unlink("bodies/names");
+    const hsize_t n = 2;
+    h5.createDataSet("bodies/names", H5::StrType(H5::PredType::C_S1, 100000),
+                     H5::DataSpace(1, &n));
+  });
+  expect_read_error(names, "dataset 'bodies/names' holds strings of 100000 bytes (at most 65536)");
+}
+
 TEST_F(ModelFiles, ForeignHdf5FileIsRejected) {
   const fs::path file = path("other.h5");
   H5::H5File(file.string(), H5F_ACC_TRUNC).createGroup("data");
