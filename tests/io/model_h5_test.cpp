@@ -509,8 +509,7 @@ TEST_F(ModelFiles, ImplausibleElementSizesAreRefused) {
   const fs::path names = damaged("names.h5", [](H5::H5File& h5) {
     h5.unlink("bodies/names");
     const hsize_t n = 2;
-    h5.createDataSet("bodies/names", H5::StrType(H5::PredType::C_S1, 100000),
-                     H5::DataSpace(1, &n));
+    h5.createDataSet("bodies/names", H5::StrType(H5::PredType::C_S1, 100000), H5::DataSpace(1, &n));
   });
   expect_read_error(names, "dataset 'bodies/names' holds strings of 100000 bytes (at most 65536)");
 }
