@@ -15,7 +15,6 @@ HistoryWriter::HistoryWriter(const std::filesystem::path& out_dir, std::vector<s
   for (std::size_t c = 0; c < columns_.size(); ++c)
     csv_ += (c ? "," : "") + columns_[c];
   csv_ += '\n';
-  write_text_atomically(out_dir_ / "history.csv", csv_);
 }
 
 void HistoryWriter::append(const std::vector<double>& row) {
@@ -50,7 +49,6 @@ void HistoryWriter::persist(StateArchive& a) {
                " values for ", columns_.size(), " columns");
   for (std::size_t at = 0; at < rows_.size(); at += columns_.size())
     write_csv_row(&rows_[at]);
-  flush();
 }
 
 void HistoryWriter::flush() {

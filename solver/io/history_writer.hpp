@@ -1,7 +1,7 @@
 // Time histories: history.csv (one row per recorded step, header = column names) and
-// history.h5 (dataset /history rows × columns, its column names and units), both rewritten
-// atomically whenever flush() is called, so a killed run leaves them whole. Verified by
-// tests/e2e/run_test.cpp.
+// history.h5 (dataset /history rows × columns, its column names and units), both written
+// atomically whenever flush() is called (and only then), so a killed run leaves them whole.
+// Verified by tests/e2e/run_test.cpp.
 #pragma once
 
 #include "solver/io/state_archive.hpp"
@@ -20,8 +20,9 @@ public:
   // Makes history.csv and history.h5 complete up to the last appended row.
   void flush();
   const std::vector<std::string>& columns() const { return columns_; }
-  // Checkpoint: the rows so far. Reading them back rewrites history.csv up to them (a restart
-  // then appends the same rows the uninterrupted run wrote after the checkpoint).
+  // Checkpoint: the rows so far. Reading them back replaces the rows held (the files change at
+  // the next flush(), so a checkpoint that fails to read leaves them as they were); a restart
+  // then appends the same rows the uninterrupted run wrote after the checkpoint.
   void persist(StateArchive& a);
 
 private:

@@ -191,6 +191,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   };
   if (restart) {
     read_checkpoint(options.restart, persist);
+    history.flush(); // only once the whole checkpoint has been read
     log.line("restart from " + options.restart.string() + " at t = " + format("%.6e", sim.time()) +
              " s, step " + std::to_string(sim.steps()));
   } else {
@@ -198,6 +199,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
     history_row(sim, 0.0, probes, in_contact, sim.energies(), row);
     history.append(row);
+    history.flush();
   }
 
   const StopSignals signals;

@@ -8,6 +8,7 @@
 #include "solver/io/checkpoint.hpp"
 #include "tests/support/command.hpp"
 
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -193,6 +194,18 @@ TEST_F(Restart, OtherPhysicsIsRefusedAndNothingIsTouched) {
             1);
   EXPECT_TRUE(slurp(out / "checkpoint.h5") == before) << "the checkpoint was touched";
   EXPECT_TRUE(slurp(out / "model.h5") == model) << "model.h5 was touched";
+  // A checkpoint whose meta reads but a field does not: refused, and the history as it was.
+  const fs::path damaged = dir / "damaged.h5";
+  fs::copy_file(out / "checkpoint.h5", damaged);
+  H5::H5File(damaged.string(), H5F_ACC_RDWR).unlink("particles/x_p");
+  const std::string history = slurp(out / "history.csv");
+  EXPECT_EQ(
+      run("solve " + case_file + " -o " + out.string() + keys + " --restart " + damaged.string(),
+          dir),
+      1);
+  EXPECT_NE(slurp(dir / "stderr.txt").find("field particles/x_p is missing"), std::string::npos)
+      << slurp(dir / "stderr.txt");
+  EXPECT_TRUE(slurp(out / "history.csv") == history) << "history.csv was touched";
   // Output-only keys may change: a longer end time continues from the end checkpoint.
   EXPECT_EQ(run("solve " + case_file + " -o " + out.string() + keys +
                     " --set time.end=1.1e-3 --set output.frames=false" + restart,
