@@ -102,10 +102,7 @@ void persist_meta(StateArchive& a, CheckpointMeta& meta) {
 template <class Read> auto read_file(const fs::path& file, Read read) {
   const Hdf5Errors errors;
   try {
-    std::error_code status;
-    SPHFEM_CHECK(fs::exists(file, status), "no such file");
-    SPHFEM_CHECK(fs::is_regular_file(file, status), "not a regular file");
-    SPHFEM_CHECK(H5::H5File::isHdf5(file.string()), "not an HDF5 file");
+    expect_hdf5_file(file);
     H5::H5File h5(file.string(), H5F_ACC_RDONLY);
     SPHFEM_CHECK(h5.attrExists("format") && h5.attrExists("version"),
                  "not a checkpoint (no format attribute)");

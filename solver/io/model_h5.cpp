@@ -568,10 +568,7 @@ void write_model_h5(const Model& m, const fs::path& file) {
 Model read_model_h5(const fs::path& file) {
   const Hdf5Errors errors;
   try {
-    std::error_code status;
-    SPHFEM_CHECK(fs::exists(file, status), "no such file");
-    SPHFEM_CHECK(fs::is_regular_file(file, status), "not a regular file");
-    SPHFEM_CHECK(H5::H5File::isHdf5(file.string()), "not an HDF5 file");
+    expect_hdf5_file(file);
     return read_model(H5::H5File(file.string(), H5F_ACC_RDONLY));
   } catch (const H5::Exception& e) {
     throw Error(detail::concat("model file ", file, ": HDF5 cannot read it: ", errors.describe(e)));
