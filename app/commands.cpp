@@ -35,7 +35,7 @@ struct CommonOptions {
   std::vector<std::string> overrides;
   int threads = 0;
   bool quiet = false;
-  std::string restart; // solve only
+  std::string restart; // solve and run
 };
 
 void add_common(CLI::App& cmd, CommonOptions& o) {
@@ -48,6 +48,12 @@ void add_common(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("-j,--threads", o.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd.add_flag("-q,--quiet", o.quiet, "no log or progress on stderr (run.log still written)");
+}
+
+void add_restart(CLI::App& cmd, CommonOptions& o) {
+  cmd.add_option("--restart", o.restart,
+                 "continue from a checkpoint (OUT/checkpoint.h5): the case's physics must be the "
+                 "checkpoint's; time.end and output keys may change");
 }
 
 void set_threads(int threads) {
@@ -113,17 +119,18 @@ int run_command_line(int argc, char** argv) {
   auto* solve_cmd = app.add_subcommand(
       "solve", "run the simulation (meshes first if OUT/model.h5 is missing or stale)");
   add_common(*solve_cmd, solve_o);
-  solve_cmd->add_option("--restart", solve_o.restart,
-                        "continue from a checkpoint (OUT/checkpoint.h5): the case's physics must "
-                        "be the checkpoint's; time.end and output keys may change");
+  add_restart(*solve_cmd, solve_o);
   solve_cmd->footer(
       "A run writes OUT/checkpoint.h5 at its end, every output.checkpoint.steps steps and\n"
       "output.checkpoint.wall_s seconds (default 600), and when stopped by SIGINT/SIGTERM\n"
       "(Ctrl-C: it finishes the step, writes the checkpoint and exits with 130/143). Continue:\n"
       "  sphfem solve CASE -o OUT --restart OUT/checkpoint.h5 [--set time.end=...]\n"
       "The continued run writes what an uninterrupted one would, bit for bit.");
-  auto* run = app.add_subcommand("run", "mesh + solve: the one-command pipeline");
+  auto* run = app.add_subcommand("run", "mesh + solve + report: the one-command pipeline");
   add_common(*run, run_o);
+  add_restart(*run, run_o);
+  run->footer("With --restart it continues the checkpoint's run (as solve does, re-meshing only\n"
+              "if OUT/model.h5 is missing or stale) and then writes the report.");
 
   PostCommands post_commands(app);
 
@@ -157,17 +164,18 @@ int run_command_line(int argc, char** argv) {
       post_commands.run();
       return 0;
     }
-    const bool remesh = run->parsed();
-    const CommonOptions& o = remesh ? run_o : solve_o;
+    const bool pipeline = run->parsed();
+    const CommonOptions& o = pipeline ? run_o : solve_o;
     set_threads(o.threads);
     const Case c = read_case(o.case_file, o.overrides);
     const fs::path out = o.out_dir;
-    if (!remesh && !solve_o.restart.empty()) // refused before anything is meshed or written
-      check_restart_case(solve_o.restart, read_checkpoint_meta(solve_o.restart), c);
+    if (!o.restart.empty()) // refused before anything is meshed or written
+      check_restart_case(o.restart, read_checkpoint_meta(o.restart), c);
+    const bool remesh = pipeline && o.restart.empty();
     const Model model = remesh ? mesh_and_write(c, out, o.quiet) : current_model(c, out, o.quiet);
-    const auto summary = solve(c, model, {out, !o.quiet, remesh ? "" : solve_o.restart});
+    const auto summary = solve(c, model, {out, !o.quiet, o.restart});
     print_outputs(out, summary);
-    if (remesh)
+    if (pipeline)
       write_run_report(out);
     return 0;
   } catch (const Interrupted& e) {

@@ -1,18 +1,26 @@
 // `sphfem sweep` (sweep_command.hpp): options, the list of values and the bisection, each run
 // through the `run` subcommand (run_command_line, in this process, its output kept out of the
-// sweep's own), and the tables. No physics here; the tables and the fit are in post/.
+// sweep's own), --resume's reading of the runs' folders and checkpoints, the stop on a signal,
+// and the tables. No physics here; the tables and the fit are in post/.
 #include "app/sweep_command.hpp"
 
 #include "app/commands.hpp"
 #include "post/sweep.hpp"
+#include "post/text.hpp"
 #include "solver/core/error.hpp"
 #include "solver/io/case_reader.hpp"
+#include "solver/io/checkpoint.hpp"
+#include "solver/time/restart_check.hpp"
+#include "solver/time/run.hpp"
+#include "solver/time/stop_signals.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -183,14 +191,83 @@ private:
   std::streambuf *out_, *err_;
 };
 
-post::SweepRun run_one(const SweepCommandOptions& o, double v0) {
+// What --resume does with a run's folder: run it from the start, continue it from its
+// checkpoint, or take the results of a run that reached the end time.
+enum class Resume { from_start, from_checkpoint, finished };
+
+struct RunPlan {
   post::SweepRun run;
+  Resume resume = Resume::from_start;
+  double checkpoint_time = 0; // s, when continued
+};
+
+RunPlan plan_run(const SweepCommandOptions& o, double v0) {
+  RunPlan plan;
+  post::SweepRun& run = plan.run;
   const std::string number = number_text(v0);
   run.v0 = std::stod(number);
   run.value = yaml_value(o, number);
   run.folder = fs::path(o.out_dir) / ("run_" + o.key + "_" + number);
+  const fs::path checkpoint = run.folder / "checkpoint.h5";
+  if (!o.resume || !fs::exists(checkpoint))
+    return plan;
+  const Case c = read_case(o.case_file, overrides_for(o, run.value));
+  CheckpointMeta meta;
+  try {
+    meta = read_checkpoint_meta(checkpoint);
+  } catch (const Error& e) {
+    std::cerr << "sweep: " << e.what() << "; running " << run.folder.string()
+              << " again from the start\n";
+    return plan;
+  }
+  try {
+    check_restart_case(checkpoint, meta, c);
+  } catch (const Error& e) {
+    throw Error(std::string("--resume: ") + e.what() +
+                "; the folder holds another sweep's run: use another -o, or leave out --resume "
+                "to run it again");
+  }
+  const double eps = 1e-9 * c.time.end; // the run loop's
+  if (meta.time < c.time.end - eps) {
+    plan.resume = Resume::from_checkpoint;
+    plan.checkpoint_time = meta.time;
+    return plan;
+  }
+  if (meta.time <= c.time.end + eps) {
+    post::read_run_results(run);
+    if (run.known()) {
+      plan.resume = Resume::finished;
+      return plan;
+    }
+    run.note.clear(); // the report is missing: the restart makes it again
+    plan.resume = Resume::from_checkpoint;
+    plan.checkpoint_time = meta.time;
+  }
+  return plan; // a run beyond this end time cannot be taken back: from the start
+}
 
+// The run's wall time as its summary.json gives it (solve only), for a run made earlier.
+double summary_wall_time(const fs::path& folder) {
+  try {
+    return nlohmann::json::parse(post::slurp(folder / "summary.json")).value("wall_s", 0.0);
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+post::SweepRun run_one(const SweepCommandOptions& o, RunPlan plan) {
+  post::SweepRun& run = plan.run;
+  if (plan.resume == Resume::finished) {
+    run.wall_s = summary_wall_time(run.folder);
+    return run;
+  }
   std::vector<std::string> args{"sphfem", "run", o.case_file, "-o", run.folder.string(), "-q"};
+  if (plan.resume == Resume::from_checkpoint) {
+    std::cerr << "sweep: " << o.key << " = " << run.value
+              << ": continuing from t = " << plan.checkpoint_time << " s\n";
+    args.push_back("--restart");
+    args.push_back((run.folder / "checkpoint.h5").string());
+  }
   for (const std::string& s : overrides_for(o, run.value)) {
     args.push_back("--set");
     args.push_back(s);
@@ -212,6 +289,10 @@ post::SweepRun run_one(const SweepCommandOptions& o, double v0) {
     error = captured.error();
   }
   run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (code == 128 + SIGINT || code == 128 + SIGTERM) {
+    run.note = "stopped by a signal, its checkpoint kept";
+    return run;
+  }
   if (code != 0) {
     run.note =
         "run failed (exit " + std::to_string(code) + ")" + (error.empty() ? "" : ": ") + error;
@@ -221,7 +302,7 @@ post::SweepRun run_one(const SweepCommandOptions& o, double v0) {
   return run;
 }
 
-void print_progress(const SweepCommandOptions& o, const post::SweepRun& r) {
+void print_progress(const SweepCommandOptions& o, const post::SweepRun& r, Resume resume) {
   std::cerr << "sweep: " << o.key << " = " << r.value << ": ";
   if (!r.perforated)
     std::cerr << "unknown (" << r.note << ")";
@@ -230,7 +311,8 @@ void print_progress(const SweepCommandOptions& o, const post::SweepRun& r) {
               << (r.residual_projectile ? fixed(*r.residual_projectile) + " m/s" : "unknown");
   else
     std::cerr << "not perforated";
-  std::cerr << ", " << fixed(r.wall_s) << " s\n";
+  std::cerr << ", " << fixed(r.wall_s) << " s"
+            << (resume == Resume::finished ? " (run before)" : "") << "\n";
 }
 
 std::string command_text(const SweepCommandOptions& o) {
@@ -246,6 +328,8 @@ std::string command_text(const SweepCommandOptions& o) {
     text += " --bisect --tolerance " + number_text(o.tolerance);
   for (const std::string& s : o.overrides)
     text += " --set " + s;
+  if (o.threads > 0)
+    text += " -j " + std::to_string(o.threads);
   if (!o.reference.empty())
     text += " --reference " + o.reference + " --reference-columns " + o.reference_columns;
   if (!o.reference_labels.empty())
@@ -266,7 +350,9 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
       "A Recht-Ipson curve vr = a (v0^p - vbl^p)^(1/p) is fitted to the perforating runs.\n"
       "--reference compares the runs and the fit with one vr column of a CSV file and, from\n"
       "further vr columns, compares other results (a paper's) with it alike, side by side.\n"
-      "Writes DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html. Examples:\n"
+      "Writes DIR/sweep.csv, sweep.json, ballistic_curve.png and sweep.html.\n"
+      "Ctrl-C (SIGINT) or SIGTERM stops the run in progress at its next step with a checkpoint;\n"
+      "the same command with --resume continues the sweep where it stopped. Examples:\n"
       "  sphfem sweep case.yaml --param projectile.velocity=180:310:10 -o sweep\n"
       "  sphfem sweep case.yaml -o sweep --bisect \\\n"
       "    --reference borvik_12mm_table3.csv --reference-columns v0,exp_vpr,spfem_vpr \\\n"
@@ -292,6 +378,9 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
                   "the key's YAML value with {} for the number, e.g. '[0,0,-{}]'")
       ->capture_default_str();
   cmd->add_flag("--bisect", o.bisect, "bisect the ballistic limit after the list");
+  cmd->add_flag("--resume", o.resume,
+                "continue a stopped sweep in the same -o: runs that reached the end are taken "
+                "as they are, stopped ones continue from their checkpoints, the rest run");
   cmd->add_option("--tolerance", o.tolerance, "bisection bracket width to stop at, m/s")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -331,18 +420,33 @@ void run_sweep_command(const SweepCommandOptions& options) {
   for (const double v : values)
     read_case(o.case_file, overrides_for(o, yaml_value(o, number_text(v))));
 
-  for (const double v : values) {
-    sweep.runs.push_back(run_one(o, v));
-    print_progress(o, sweep.runs.back());
-  }
+  // With --resume, another sweep's runs in the folder stop this one before its first run.
+  std::vector<RunPlan> plans;
+  for (const double v : values)
+    plans.push_back(plan_run(o, v));
+
+  const StopSignals signals; // a signal stops the run in progress (its own StopSignals) and then
+                             // the sweep
+  const auto run_next = [&](const RunPlan& plan) {
+    sweep.runs.push_back(run_one(o, plan));
+    print_progress(o, sweep.runs.back(), plan.resume);
+    if (const int signal = signals.received())
+      throw Interrupted(
+          detail::concat("sweep interrupted by ", signal == SIGINT ? "SIGINT" : "SIGTERM",
+                         " during the run in ", sweep.runs.back().folder.string(),
+                         " (its checkpoint and the other runs' folders are kept); continue with: ",
+                         command_text(o), " --resume"),
+          signal);
+  };
+  for (const RunPlan& plan : plans)
+    run_next(plan);
   if (o.bisect) {
     while (const auto v = post::next_bisection(post::ballistic_points(sweep.runs), o.tolerance)) {
       if (std::ranges::any_of(sweep.runs, [&v](const post::SweepRun& r) {
             return number_text(r.v0) == number_text(*v);
           }))
         break; // the bracket is below the values' resolution
-      sweep.runs.push_back(run_one(o, *v));
-      print_progress(o, sweep.runs.back());
+      run_next(plan_run(o, *v));
     }
   }
   sweep.fit = post::fit_recht_ipson(post::ballistic_points(sweep.runs));

@@ -23,6 +23,7 @@ struct SweepCommandOptions {
   std::string param;         // KEY=START:STOP:STEP (DESIGN.md's form): --key and --values in one
   std::string format = "{}"; // the key's YAML value, {} standing for the number
   bool bisect = false;
+  bool resume = false;  // take finished runs in out_dir as they are, continue stopped ones
   double tolerance = 1; // m/s
   std::vector<std::string> overrides;
   int threads = 0;
@@ -35,7 +36,9 @@ struct SweepCommandOptions {
 CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o);
 
 // Runs it; throws sphfem::Error on bad input. A run that fails or has no results is reported
-// as unknown and the sweep goes on.
+// as unknown and the sweep goes on. SIGINT/SIGTERM stop the run in progress with a checkpoint
+// and then the sweep (Interrupted, saying how to continue); with `resume` the same sweep takes
+// the runs that reached the end as they are and continues the others from their checkpoints.
 void run_sweep_command(const SweepCommandOptions& o);
 
 } // namespace sphfem

@@ -25,10 +25,10 @@ export LSAN_OPTIONS=suppressions=$PWD/fuzz/lsan.supp
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O0" \
   -DSPHFEM_SANITIZE=ON -DSPHFEM_BENCH=OFF >/dev/null
 cmake --build build-asan -j "$jobs"
-# Three tests run whole simulations — the two plug tests a perforation (8 min unoptimised), the
-# sweep test two runs (16 min): the release suite has them.
+# Four tests run whole simulations — the two plug tests a perforation (8 min unoptimised), the
+# sweep tests two runs each (16 min and more): the release suite has them.
 ctest --test-dir build-asan -L unit \
-  -E "PostPlug[.](OnATinyPerforation|AProjectileBeyond)|SweepCommand[.]TwoShortRuns" \
+  -E "PostPlug[.](OnATinyPerforation|AProjectileBeyond)|SweepCommand[.](TwoShortRuns|StoppedAndResumed)" \
   -j "$jobs" --output-on-failure
 
 # 2. Fuzzing: a run that really grows past 2 GB or takes 10 s on one input is a finding.

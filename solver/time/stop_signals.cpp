@@ -5,6 +5,7 @@ namespace sphfem {
 namespace {
 
 volatile std::sig_atomic_t received_signal = 0;
+int alive = 0; // StopSignals objects alive, nested
 
 extern "C" void record_signal(int signal) {
   received_signal = signal;
@@ -13,7 +14,8 @@ extern "C" void record_signal(int signal) {
 } // namespace
 
 StopSignals::StopSignals() {
-  received_signal = 0;
+  if (alive++ == 0)
+    received_signal = 0;
   struct sigaction action {};
   action.sa_handler = record_signal;
   sigemptyset(&action.sa_mask);
@@ -22,6 +24,7 @@ StopSignals::StopSignals() {
 }
 
 StopSignals::~StopSignals() {
+  --alive;
   sigaction(SIGINT, &previous_int_, nullptr);
   sigaction(SIGTERM, &previous_term_, nullptr);
 }

@@ -1,6 +1,8 @@
 // SIGINT and SIGTERM during a run: while a StopSignals lives, either signal only sets a flag;
 // the run loop finishes the current step, writes a checkpoint and stops with a message saying
-// how to continue (run.cpp). The previous handlers come back when it dies.
+// how to continue (run.cpp). The previous handlers come back when it dies. StopSignals nest: a
+// sweep's outlives its runs', and a signal received between two runs (while one meshes) is still
+// there for the next run's to see; only the outermost one starts with no signal received.
 #pragma once
 
 #include <csignal>

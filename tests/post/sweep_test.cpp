@@ -2,7 +2,8 @@
 // Recht–Ipson fit on exact, noisy and experimental data; the bisection of the ballistic limit;
 // run results read back, unknown ones included; the reference reader and comparison series,
 // their errors and rms by hand and on the paper's SPH–FEM results against the experiment; and
-// the command on two short runs of the punch scene and on bad reference options.
+// the command on two short runs of the punch scene, stopped by SIGINT and resumed, and on bad
+// reference options.
 #include "post/recht_ipson.hpp"
 #include "post/sweep.hpp"
 #include "tests/support/command.hpp"
@@ -14,8 +15,10 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <csignal>
 #include <fstream>
 #include <functional>
+#include <sstream>
 
 namespace fs = std::filesystem;
 using namespace sphfem;
@@ -380,6 +383,90 @@ TEST(SweepCommand, TwoShortRuns) {
   for (std::size_t k = 0; k < 2; ++k)
     EXPECT_EQ(j["reference"]["points"][k]["error_run_m_per_s"].is_null(),
               j["runs"][k]["perforated"] == "unknown");
+}
+
+// The first five columns of sweep.csv (v0 to plug mass: all but wall time and folder).
+std::vector<std::string> results_table(const fs::path& sweep_csv) {
+  std::istringstream lines(test::slurp(sweep_csv));
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(lines, line);) {
+    std::size_t at = 0;
+    for (int k = 0; k < 5 && at != std::string::npos; ++k)
+      at = line.find(',', at + 1);
+    rows.push_back(line.substr(0, at));
+  }
+  return rows;
+}
+
+nlohmann::json summary_without_wall_time(const fs::path& run) {
+  nlohmann::json s = nlohmann::json::parse(test::slurp(run / "summary.json"));
+  s.erase("wall_s");
+  s.erase("entity_steps_per_s");
+  return s;
+}
+
+// Nothing lost (issue 9): a sweep stopped by SIGINT keeps its runs, says how to continue, and
+// continued with --resume writes the results of an uninterrupted sweep, its runs' histories bit
+// for bit; a second --resume runs nothing; a sweep with other physics may not resume the runs.
+TEST(SweepCommand, StoppedAndResumed) {
+  test::Scratch s("sweep_resume");
+  std::ofstream(s.dir / "case.yaml") << test::punch_case(0.009, 0.004, 0.008);
+  const std::string args = "sweep " + (s.dir / "case.yaml").string() +
+                           " --key bodies.projectile.velocity --format '[0,0,-{}]' --values "
+                           "300,800 -j 1 --set time.end=3e-5 --set output.checkpoint.steps=20 -o ";
+  const fs::path reference = s.dir / "reference", out = s.dir / "out";
+  ASSERT_EQ(test::run_sphfem(args + reference.string(), s.dir).code, 0);
+
+  const fs::path first = out / "run_bodies.projectile.velocity_300";
+  const pid_t pid = test::spawn_sphfem(args + out.string(), s.dir);
+  ASSERT_TRUE(test::wait_for_file(first / "checkpoint.h5", pid))
+      << test::slurp(s.dir / "stderr.txt");
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+  const std::string message = test::slurp(s.dir / "stderr.txt");
+  EXPECT_NE(message.find("sphfem: sweep interrupted by SIGINT during the run in " + first.string()),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find(" --resume\n"), std::string::npos) << message;
+  // Stopped in its first run (or just after it): the second was not started, no table written.
+  EXPECT_FALSE(fs::exists(out / "run_bodies.projectile.velocity_800"));
+  EXPECT_FALSE(fs::exists(out / "sweep.csv"));
+
+  const auto resumed = test::run_sphfem(args + out.string() + " --resume", s.dir);
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  // The stopped run continued from its checkpoint (or, stopped in its report, was taken as run).
+  EXPECT_TRUE(resumed.err.find("-300]: continuing from t = ") != std::string::npos ||
+              resumed.err.find("(run before)") != std::string::npos)
+      << resumed.err;
+  EXPECT_EQ(results_table(out / "sweep.csv"), results_table(reference / "sweep.csv"));
+  for (const char* run :
+       {"run_bodies.projectile.velocity_300", "run_bodies.projectile.velocity_800"}) {
+    EXPECT_TRUE(test::slurp(out / run / "history.csv") ==
+                test::slurp(reference / run / "history.csv"))
+        << run << ": history.csv differs";
+    EXPECT_EQ(summary_without_wall_time(out / run), summary_without_wall_time(reference / run))
+        << run;
+  }
+
+  const auto again = test::run_sphfem(args + out.string() + " --resume", s.dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_EQ(std::count(again.err.begin(), again.err.end(), '\n'), 2) << again.err;
+  EXPECT_NE(again.err.find("-300]: not perforated"), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("(run before)\n"), std::string::npos) << again.err;
+  EXPECT_EQ(results_table(out / "sweep.csv"), results_table(reference / "sweep.csv"));
+
+  const std::string checkpoint = test::slurp(first / "checkpoint.h5");
+  const auto other =
+      test::run_sphfem(args + out.string() + " --resume --set contact.0.penalty=2e11", s.dir);
+  EXPECT_EQ(other.code, 1);
+  EXPECT_EQ(other.err.rfind("sphfem: error: --resume: checkpoint ", 0), 0u) << other.err;
+  EXPECT_NE(other.err.find("contact.0.penalty: checkpoint 1.0e11, case 2e11"), std::string::npos)
+      << other.err;
+  EXPECT_NE(other.err.find("use another -o"), std::string::npos) << other.err;
+  EXPECT_TRUE(test::slurp(first / "checkpoint.h5") == checkpoint) << "the checkpoint was touched";
 }
 
 TEST(SweepCommand, BadInputIsOneLineError) {

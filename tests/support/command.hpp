@@ -1,6 +1,6 @@
 // Test helpers for running the `sphfem` command as users do: a scratch folder, a file's whole
-// text, and one command with its exit code, stdout and stderr (no X display, as on a server or
-// in CI).
+// text, one command with its exit code, stdout and stderr (no X display, as on a server or in
+// CI), and one started in the background to be signalled.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -8,11 +8,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace sphfem::test {
 
@@ -45,6 +47,32 @@ struct Result {
   int code;
   std::string out, err;
 };
+
+// `sphfem ARGS` in the background (exec'd by the shell, so the pid is sphfem's), stdout and
+// stderr in files of `dir`: for tests that signal a running command.
+inline pid_t spawn_sphfem(const std::string& args, const std::filesystem::path& dir) {
+  const std::string cmd = "exec env -u DISPLAY " + std::string(SPHFEM_BINARY) + " " + args + " >" +
+                          (dir / "stdout.txt").string() + " 2>" + (dir / "stderr.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits (up to a minute) until `file` exists; false if it does not or process `pid` ended first.
+inline bool wait_for_file(const std::filesystem::path& file, pid_t pid) {
+  for (int i = 0; i < 6000; ++i) {
+    if (std::filesystem::exists(file))
+      return true;
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid)
+      return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
 
 // Runs `sphfem ARGS` with stdout and stderr captured in files of `dir`.
 inline Result run_sphfem(const std::string& args, const std::filesystem::path& dir) {
