@@ -531,13 +531,12 @@ Model read_model(const H5::H5File& file) {
   const std::size_t n = m.x_n.size();
   for (const Hex& hex : m.hex_e)
     check_indices(hex, n, "elements/hex");
-  const H5::Group node_sets = file.openGroup("node_sets"), face_sets = file.openGroup("face_sets");
   for (const std::string& name : set_names(file, "node_sets")) {
-    m.node_sets[name] = read_array<Index>(node_sets, name);
+    m.node_sets[name] = read_array<Index>(file, "node_sets/" + name);
     check_indices(m.node_sets[name], n, "node set '" + name + "'");
   }
   for (const std::string& name : set_names(file, "face_sets")) {
-    m.face_sets[name] = read_rows<4>(face_sets, name);
+    m.face_sets[name] = read_rows<4>(file, "face_sets/" + name);
     for (const Quad& q : m.face_sets[name])
       check_indices(q, n, "face set '" + name + "'");
   }

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -187,6 +188,32 @@ TEST_F(Restart, OtherPhysicsIsRefusedAndNothingIsTouched) {
           dir),
       1);
   EXPECT_NE(slurp(dir / "stderr.txt").find("field particles/x_p is missing"), std::string::npos)
+      << slurp(dir / "stderr.txt");
+  EXPECT_TRUE(slurp(out / "history.csv") == history) << "history.csv was touched";
+  // The same physics keys, but the checkpoint's model is not the one in OUT (as when model.h5 is
+  // replaced by hand): refused, naming both fingerprints.
+  const fs::path other_model = dir / "other_model.h5";
+  fs::copy_file(out / "checkpoint.h5", other_model);
+  {
+    H5::H5File h5(other_model.string(), H5F_ACC_RDWR);
+    h5.unlink("meta/model");
+    const std::string text = "another model";
+    const std::array<hsize_t, 2> dims{text.size(), 1}; // a text field: bytes, one per element
+    const H5::DataSet field =
+        h5.createDataSet("meta/model", H5::PredType::NATIVE_UCHAR, H5::DataSpace(2, dims.data()));
+    field.write(text.data(), H5::PredType::NATIVE_UCHAR);
+    const int one = 1;
+    field.createAttribute("element_bytes", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_INT, &one);
+  }
+  EXPECT_EQ(run("solve " + case_file + " -o " + out.string() + keys + " --restart " +
+                    other_model.string(),
+                dir),
+            1);
+  EXPECT_NE(slurp(dir / "stderr.txt")
+                .find("was made from another model (another model; this case "
+                      "meshes to "),
+            std::string::npos)
       << slurp(dir / "stderr.txt");
   EXPECT_TRUE(slurp(out / "history.csv") == history) << "history.csv was touched";
   // Output-only keys may change: a longer end time continues from the end checkpoint.

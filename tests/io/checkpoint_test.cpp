@@ -1,10 +1,13 @@
 // checkpoint.h5 (solver/io/checkpoint.hpp): what persist() stores comes back exactly — numbers,
 // vectors and matrices, structs with padding, text, empty arrays — and every kind of bad file
 // (absent, not HDF5, truncated, another format or version, a field missing or of another
-// layout) is a one-line Error naming the file, never a crash. The model fingerprint changes with
+// layout, a history or frame list of another run or damaged) is a one-line Error naming the
+// file, never a crash. The model fingerprint changes with
 // the model's content and not with anything else.
 #include "solver/core/error.hpp"
 #include "solver/io/checkpoint.hpp"
+#include "solver/io/frame_writer.hpp"
+#include "solver/io/history_writer.hpp"
 #include "solver/material/material_point.hpp"
 
 #include <gtest/gtest.h>
@@ -158,6 +161,24 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
   }
   const fs::path other = f.dir / "other.h5"; // an HDF5 file of another kind
   H5::H5File(other.string(), H5F_ACC_TRUNC).close();
+  const fs::path number_format = f.dir / "number_format.h5"; // format an integer, not a string
+  fs::copy_file(good, number_format);
+  {
+    H5::H5File h5(number_format.string(), H5F_ACC_RDWR);
+    h5.removeAttr("format");
+    const int one = 1;
+    h5.createAttribute("format", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_INT, &one);
+  }
+  const fs::path other_format = f.dir / "other_format.h5"; // a string, but another format's
+  fs::copy_file(good, other_format);
+  {
+    H5::H5File h5(other_format.string(), H5F_ACC_RDWR);
+    h5.removeAttr("format");
+    const std::string name = "sphfem-model";
+    const H5::StrType type(H5::PredType::C_S1, name.size());
+    h5.createAttribute("format", type, H5::DataSpace(H5S_SCALAR)).write(type, name);
+  }
   const fs::path version = f.dir / "version.h5";
   fs::copy_file(good, version);
   {
@@ -170,7 +191,16 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
   EXPECT_NE(error_of(f.dir).find("not a regular file"), std::string::npos);
   EXPECT_NE(error_of(text).find("text.h5\": not an HDF5 file"), std::string::npos);
   EXPECT_NE(error_of(truncated).find("truncated.h5\": "), std::string::npos);
-  EXPECT_NE(error_of(other).find("other.h5\": not a checkpoint"), std::string::npos);
+  EXPECT_NE(error_of(other).find("other.h5\": not a checkpoint (no format attribute)"),
+            std::string::npos);
+  EXPECT_NE(error_of(number_format)
+                .find("number_format.h5\": not a checkpoint (its format attribute is not a short "
+                      "string)"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(other_format).find("other_format.h5\": not a checkpoint (format \"sphfem-model\")"),
+      std::string::npos)
+      << error_of(other_format);
   EXPECT_NE(error_of(version).find("checkpoint version 2, this sphfem reads 1"), std::string::npos);
   EXPECT_THROW(read_checkpoint_meta(truncated), Error);
 
@@ -266,6 +296,55 @@ TEST(Checkpoint, InconsistentContentIsAnError) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("unreadable case keys"), std::string::npos) << e.what();
   }
+}
+
+// The history and frame writers' parts of a checkpoint, read back by writers of another run or
+// stored inconsistently (by hand or by damage): refused with what is wrong.
+TEST(Checkpoint, RunOutputsOfAnotherKindAreRefused) {
+  const Folder f;
+  const fs::path file = f.dir / "checkpoint.h5";
+  const auto refusal = [&](const std::function<void(StateArchive&)>& read) {
+    try {
+      read_checkpoint(file, read);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("read without an error");
+  };
+
+  HistoryWriter written(f.dir / "written", {"time", "energy"});
+  written.append({0.0, 1.0});
+  write_checkpoint(file, meta(), [&](StateArchive& a) { written.persist(a); });
+  HistoryWriter other_columns(f.dir / "other", {"time", "momentum"});
+  EXPECT_NE(refusal([&](StateArchive& a) {
+              other_columns.persist(a);
+            }).find("its history has other columns than this run's"),
+            std::string::npos);
+
+  write_checkpoint(file, meta(), [](StateArchive& a) {
+    std::string columns = "time\nenergy\n";
+    std::vector<double> rows{0.0, 1.0, 2.0}; // a row and a half
+    a.text("run/history_columns", columns);
+    a.array("run/history_rows", rows);
+  });
+  HistoryWriter same_columns(f.dir / "same", {"time", "energy"});
+  EXPECT_NE(refusal([&](StateArchive& a) {
+              same_columns.persist(a);
+            }).find("history rows of 3 values for 2 columns"),
+            std::string::npos);
+
+  write_checkpoint(file, meta(), [](StateArchive& a) {
+    std::string frames = "0 0 frames/fe_000000.vtu\nlater 1 frames/sph_000001.vtu\n";
+    int count = 2;
+    a.text("run/frames", frames);
+    a.value("run/frame_count", count);
+  });
+  const Nodes nodes;
+  const HexElements elements;
+  const Particles particles;
+  FrameWriter frames(f.dir / "frames", nodes, elements, particles);
+  EXPECT_NE(refusal([&](StateArchive& a) { frames.persist(a); }).find("unreadable frame list"),
+            std::string::npos);
 }
 
 TEST(Checkpoint, ModelFingerprintFollowsTheContent) {

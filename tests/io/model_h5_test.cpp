@@ -514,6 +514,23 @@ TEST_F(ModelFiles, ImplausibleElementSizesAreRefused) {
   expect_read_error(names, "dataset 'bodies/names' holds strings of 100000 bytes (at most 65536)");
 }
 
+TEST_F(ModelFiles, AnotherFormatIsRejected) {
+  const fs::path file = damaged("other_format.h5", [](H5::H5File& h5) {
+    h5.removeAttr("format");
+    const std::string other = "sphfem-other";
+    const H5::StrType type(H5::PredType::C_S1, other.size());
+    h5.createAttribute("format", type, H5::DataSpace(H5S_SCALAR)).write(type, other);
+  });
+  expect_read_error(file, "not an sphfem model (format 'sphfem-other', expected 'sphfem-model')");
+}
+
+TEST_F(ModelFiles, MissingGroupIsNamed) {
+  expect_read_error(damaged("no_sets.h5", [](H5::H5File& h5) { h5.unlink("node_sets"); }),
+                    "missing group 'node_sets'");
+  expect_read_error(damaged("no_elements.h5", [](H5::H5File& h5) { h5.unlink("elements"); }),
+                    "missing group 'elements'");
+}
+
 TEST_F(ModelFiles, ForeignHdf5FileIsRejected) {
   const fs::path file = path("other.h5");
   H5::H5File(file.string(), H5F_ACC_TRUNC).createGroup("data");
