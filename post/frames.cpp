@@ -3,10 +3,14 @@
 #include "post/post.hpp"
 #include "solver/core/error.hpp"
 
+#include <vtkCellType.h>
+#include <vtkCommand.h>
+#include <vtkExecutive.h>
 #include <vtkNew.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
+#include <string>
 
 namespace sphfem::post {
 
@@ -35,14 +39,58 @@ std::size_t nearest_frame(const std::vector<FrameFiles>& frames, std::optional<d
   return chosen;
 }
 
+namespace {
+
+// Keeps the first error VTK reports and silences the rest: left alone, VTK prints each error
+// of a bad file over several coloured lines of the terminal.
+class FirstError : public vtkCommand {
+public:
+  static FirstError* New() { return new FirstError; }
+  void Execute(vtkObject*, unsigned long event, void* data) override {
+    if (event != vtkCommand::ErrorEvent || !text.empty() || !data)
+      return;
+    // "ERROR: In <source>, line <n>\n<class> (<address>): <what>\n\n": keep <what>.
+    const std::string message = static_cast<const char*>(data);
+    const std::size_t start = message.find("): ");
+    const std::size_t from = start == std::string::npos ? 0 : start + 3;
+    text = message.substr(from, message.find('\n', from) - from);
+  }
+  std::string text;
+};
+
+} // namespace
+
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& file) {
   SPHFEM_CHECK(fs::is_regular_file(file), file.string(), ": no such frame file");
   vtkNew<vtkXMLUnstructuredGridReader> reader;
+  vtkNew<FirstError> error;
+  for (const unsigned long event : {vtkCommand::ErrorEvent, vtkCommand::WarningEvent}) {
+    reader->AddObserver(event, error);
+    reader->GetExecutive()->AddObserver(event, error);
+  }
+  reader->SetParserErrorObserver(error);
   reader->SetFileName(file.string().c_str());
   reader->Update();
   vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
-  SPHFEM_CHECK(reader->GetErrorCode() == 0 && grid && grid->GetNumberOfPoints() > 0, file.string(),
-               ": cannot read the frame");
+  SPHFEM_CHECK(error->text.empty() && reader->GetErrorCode() == 0, file.string(),
+               ": cannot read the frame (VTK: ",
+               error->text.empty() ? "error code " + std::to_string(reader->GetErrorCode())
+                                   : error->text,
+               ")");
+  SPHFEM_CHECK(grid && grid->GetNumberOfPoints() > 0, file.string(),
+               ": cannot read the frame (it has no points)");
+  // VTK's reader takes a cell's point ids as written; the users index point arrays with them.
+  const vtkIdType points = grid->GetNumberOfPoints();
+  for (vtkIdType k = 0; k < grid->GetNumberOfCells(); ++k) {
+    vtkIdType n = 0;
+    const vtkIdType* ids = nullptr;
+    grid->GetCellPoints(k, n, ids);
+    SPHFEM_CHECK(grid->GetCellType(k) != VTK_HEXAHEDRON || n == 8, file.string(), ": cell ", k,
+                 " is a hexahedron of ", n, " points, expected 8");
+    for (vtkIdType a = 0; a < n; ++a)
+      SPHFEM_CHECK(ids[a] >= 0 && ids[a] < points, file.string(), ": cell ", k, " refers to point ",
+                   ids[a], ", expected 0 to ", points - 1);
+  }
   return grid;
 }
 

@@ -23,7 +23,8 @@ std::vector<FrameFiles> frame_files(const std::filesystem::path& pvd);
 // The index of the frame nearest to `time`; without one, the last.
 std::size_t nearest_frame(const std::vector<FrameFiles>& frames, std::optional<double> time);
 
-// One frame file; a missing or unreadable one is an Error naming it.
+// One frame file; a missing or unreadable one (VTK's reason in the message, VTK's own printing
+// silenced), or one whose cells refer to points it does not have, is an Error naming it.
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::filesystem::path& file);
 
 } // namespace sphfem::post

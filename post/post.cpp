@@ -3,6 +3,7 @@
 #include "solver/core/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -112,8 +113,15 @@ std::vector<std::pair<double, std::string>> read_pvd(const std::filesystem::path
   static const std::regex dataset(R"re(<DataSet\s+timestep="([^"]+)"[^>]*file="([^"]+)")re");
   std::vector<std::pair<double, std::string>> out;
   for (auto it = std::sregex_iterator(text.begin(), text.end(), dataset);
-       it != std::sregex_iterator(); ++it)
-    out.emplace_back(std::stod((*it)[1]), (*it)[2]);
+       it != std::sregex_iterator(); ++it) {
+    const std::string time = (*it)[1];
+    char* end = nullptr;
+    const double t = std::strtod(time.c_str(), &end);
+    SPHFEM_CHECK(end != time.c_str() && *end == '\0' && std::isfinite(t), file.string(), ":",
+                 1 + std::count(text.begin(), text.begin() + it->position(), '\n'),
+                 ": DataSet timestep \"", time, "\": expected a time in s");
+    out.emplace_back(t, (*it)[2]);
+  }
   return out;
 }
 

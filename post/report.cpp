@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -49,16 +50,74 @@ const nlohmann::json* at_path(const nlohmann::json& doc, const std::string& path
   const nlohmann::json* node = &doc;
   std::istringstream keys(path);
   for (std::string key; std::getline(keys, key, '.');) {
+    std::size_t index = 0; // an index too large for size_t is absent, as one past the end
+    const char* end = key.data() + key.size();
     if (node->is_object() && node->contains(key))
       node = &(*node)[key];
-    else if (node->is_array() && !key.empty() &&
-             key.find_first_not_of("0123456789") == std::string::npos &&
-             std::stoul(key) < node->size())
-      node = &(*node)[std::stoul(key)];
+    else if (const auto [stop, error] = std::from_chars(key.data(), end, index);
+             node->is_array() && !key.empty() && error == std::errc{} && stop == end &&
+             index < node->size())
+      node = &(*node)[index];
     else
       return nullptr;
   }
   return node;
+}
+
+// summary.json as the report reads it: an object whose keys used here have the types `solve`
+// writes (solver/time/run.cpp), else an Error naming the file and the key, before anything is
+// written (JSON's own type errors would name neither).
+void check_summary(const nlohmann::json& summary, const fs::path& file) {
+  using Json = nlohmann::json;
+  const auto fail = [&](const std::string& key, const std::string& expected, const Json* got) {
+    throw Error(file.string() + ": " + key + ": expected " + expected + ", got " +
+                (got ? std::string(got->type_name()) : "nothing (missing key)"));
+  };
+  // `in`'s `key` (at `path`) if `ok` holds for it; missing: nullptr, or an Error if `required`.
+  const auto check = [&](const Json& in, const std::string& path, const std::string& key,
+                         bool required, const std::string& expected,
+                         const auto& ok) -> const Json* {
+    const auto it = in.find(key);
+    if (it == in.end() ? required : !ok(*it))
+      fail(path + key, expected, it == in.end() ? nullptr : &*it);
+    return it == in.end() ? nullptr : &*it;
+  };
+  const auto number = [](const Json& j) { return j.is_number(); };
+  const auto string = [](const Json& j) { return j.is_string(); };
+  const auto object = [](const Json& j) { return j.is_object(); };
+  const auto numbers = [](std::size_t n) {
+    return [n](const Json& j) {
+      return j.is_array() && j.size() == n &&
+             std::all_of(j.begin(), j.end(), [](const Json& v) { return v.is_number(); });
+    };
+  };
+  if (!summary.is_object())
+    fail("(top level)", "an object (the run's summary)", &summary);
+  check(summary, "", "case", false, "a string", string);
+  check(summary, "", "case_file", false, "a string", string);
+  for (const char* key :
+       {"time", "steps", "wall_s", "threads", "entity_steps_per_s", "momentum_drift"})
+    check(summary, "", key, false, "a number", number);
+  const Json* counts = check(summary, "", "counts", true, "an object", object);
+  for (const char* key : {"particles", "nodes", "elements"})
+    check(*counts, "counts.", key, false, "a number", number);
+  const Json* energy = check(summary, "", "energy", true, "an object", object);
+  check(*energy, "energy.", "balance_error", false, "a number", number);
+  if (const Json* bodies = check(summary, "", "bodies", false, "an object", object))
+    for (const auto& [name, body] : bodies->items()) {
+      const std::string path = "bodies." + name;
+      if (!body.is_object())
+        fail(path, "an object", &body);
+      check(body, path + ".", "com_velocity", true, "3 numbers [vx, vy, vz]", numbers(3));
+      for (const char* key :
+           {"mass", "kinetic_energy", "internal_energy", "killed_particles", "eroded_elements"})
+        check(body, path + ".", key, false, "a number", number);
+    }
+  if (const Json* plane = check(summary, "", "section_plane", false, "an object", object)) {
+    for (const char* key : {"point", "normal"})
+      check(*plane, "section_plane.", key, true, "3 numbers [x, y, z]", numbers(3));
+    check(*plane, "section_plane.", "u_range", false, "2 numbers [u0, u1]", numbers(2));
+  }
 }
 
 // Whether a reference row's `when` (path=value) holds for this run's summary.
@@ -288,7 +347,16 @@ Report write_report(const ReportOptions& o) {
   } catch (const std::exception& e) {
     throw Error(summary_file.string() + ": not valid JSON: " + e.what());
   }
-  const History history = read_history_csv(o.run / "history.csv");
+  check_summary(summary, summary_file);
+  const fs::path history_file = o.run / "history.csv";
+  const History history = read_history_csv(history_file);
+  SPHFEM_CHECK(history.values.count("time"), history_file.string(), ":1: no time column");
+  if (const auto bodies = summary.find("bodies"); bodies != summary.end())
+    for (const auto& [name, body] : bodies->items())
+      for (const char* axis : {"x", "y", "z"})
+        SPHFEM_CHECK(history.values.count("body." + name + ".v" + axis), history_file.string(),
+                     ":1: no column body.", name, ".v", axis, " (", summary_file.string(),
+                     " lists body ", name, ")");
   fs::path reference_file = o.reference;
   if (reference_file.empty() && summary.contains("case_file")) {
     const fs::path candidate =

@@ -1106,6 +1106,8 @@ Case Reader::plate_impact(const Located& root) const {
 
 Case Reader::read(const YAML::Node& node) const {
   const Located root{node, ""};
+  if (!node.IsMap()) // before looking up `scene`, which yaml-cpp refuses on a single value
+    fail(root, "must be a map, got " + describe(node));
   if (const Located scene = child(root, "scene"); scene.node.IsDefined()) {
     one_of(scene, {"plate_impact"}, "scene");
     return plate_impact(root);

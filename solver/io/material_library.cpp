@@ -1,26 +1,42 @@
+// Material entries taken from library files: resolved, merged and checked (see the header).
 #include "solver/io/material_library.hpp"
 
 #include "solver/core/error.hpp"
 #include "solver/io/case_reader.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <utility>
+#include <vector>
 
 namespace sphfem {
 
 namespace {
 
-// `over` merged into a copy of `base`: maps key by key, anything else replaced.
+// `over` merged into a copy of `base`: maps key by key, anything else replaced. The values
+// taken from `over` are its own nodes, not copies, so that they keep their lines for messages.
 YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
   if (!base.IsMap() || !over.IsMap())
-    return YAML::Clone(over);
+    return over;
   YAML::Node out = YAML::Clone(base);
   for (const auto& pair : over) {
     const std::string key = pair.first.Scalar();
     const YAML::Node existing = out[key];
-    out[key] = existing.IsDefined() ? merged(existing, pair.second) : YAML::Clone(pair.second);
+    out[key] = existing.IsDefined() ? merged(existing, pair.second) : pair.second;
   }
   return out;
 }
+
+// The library files being read, outermost first: a library that refers back to one of them
+// (itself, or through others) would be read forever.
+thread_local std::vector<std::filesystem::path> libraries_open;
+
+struct OpenLibrary {
+  explicit OpenLibrary(std::filesystem::path file) { libraries_open.push_back(std::move(file)); }
+  ~OpenLibrary() { libraries_open.pop_back(); }
+  OpenLibrary(const OpenLibrary&) = delete;
+  OpenLibrary& operator=(const OpenLibrary&) = delete;
+};
 
 } // namespace
 
@@ -53,16 +69,31 @@ void resolve_material_libraries(YAML::Node& root, const std::filesystem::path& f
         fail(given, "entry", "must be the name of a material in the library");
       wanted = given.Scalar();
     }
+    std::error_code no_path;
+    const std::filesystem::path canonical =
+        std::filesystem::weakly_canonical(library_file, no_path);
+    if (std::ranges::find(libraries_open, canonical) != libraries_open.end()) {
+      std::string cycle;
+      for (const auto& open : libraries_open)
+        cycle += open.string() + " -> ";
+      fail(library, "library",
+           library_file.string() + ": the libraries refer to each other in a cycle (" + cycle +
+               canonical.string() + ")");
+    }
     std::string available;
-    for (const MaterialSpec& m : read_materials(library_file)) // validates the library
-      available += (available.empty() ? "" : ", ") + m.name;
+    {
+      const OpenLibrary open(canonical);
+      for (const MaterialSpec& m : read_materials(library_file)) // validates the library
+        available += (available.empty() ? "" : ", ") + m.name;
+    }
     const YAML::Node source = YAML::LoadFile(library_file.string())["materials"][wanted];
     if (!source.IsDefined())
       fail(entry["entry"] ? entry["entry"] : library, entry["entry"] ? "entry" : "library",
            library_file.string() + " has no material '" + wanted + "' (it has: " + available + ")");
-    YAML::Node changes = YAML::Clone(entry);
-    changes.remove("library");
-    changes.remove("entry");
+    YAML::Node changes(YAML::NodeType::Map);
+    for (const auto& pair : entry)
+      if (const std::string key = pair.first.Scalar(); key != "library" && key != "entry")
+        changes[key] = pair.second;
     materials[name] = merged(source, changes);
   }
 }

@@ -3,7 +3,8 @@
 // becomes the library's entry (`entry` defaults to the case's own name for the material) with
 // the given keys merged over it, maps key by key (so `johnson_cook: {C: 0.012}` changes C
 // only). The library file is validated on its own first, so its errors name its own lines;
-// the path is relative to the case file's folder.
+// the path is relative to the case file's folder. A library that refers back to a file being
+// read (itself, or through others) is an error naming the cycle.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

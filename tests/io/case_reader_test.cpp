@@ -1,5 +1,6 @@
 // Tests of the case-file reader: a full valid case, defaults, one test per class of bad
-// input (each checking the reported location and key path), and --set overrides.
+// input (each checking the reported location and key path), --set overrides, and material
+// libraries (changed keys, bad references, libraries in a cycle).
 #include "solver/io/case_reader.hpp"
 
 #include "solver/core/error.hpp"
@@ -407,14 +408,59 @@ TEST(CaseReader, ReadsFileAndReportsMissingFile) {
   std::filesystem::remove(file);
   EXPECT_TRUE(reports(error_message([&] { read_case(file); }), file.string() + ": ",
                       "cannot open the case file"));
+  const std::filesystem::path folder = std::filesystem::temp_directory_path();
+  EXPECT_EQ(error_message([&] { read_case(folder); }),
+            folder.string() + ": cannot open the case file (it is a directory)");
 }
 
 TEST(CaseReader, ThrowsOnlyLocatedErrorsOnOddInput) {
   for (const std::string text : {"", "42", "[", "a: *undefined", "? [a, b]\n: 1\n", "\t- x",
                                  "name: [a\n", "name: !!binary x\n", "&a a: b"}) {
     SCOPED_TRACE(text);
-    EXPECT_TRUE(reports(error_of(text), "case.yaml:", ": "));
+    const std::string message = error_of(text);
+    EXPECT_TRUE(reports(message, "case.yaml:", ": "));
+    // A line number, not yaml-cpp's own text.
+    EXPECT_EQ(message.find_first_of("0123456789"), std::string("case.yaml:").size()) << message;
+    EXPECT_EQ(message.find("cannot read the case"), std::string::npos) << message;
   }
+  EXPECT_EQ(error_of("42"), "case.yaml:1: (top level): must be a map, got 42");
+  EXPECT_EQ(error_of("? [a, b]\n: 1\n"),
+            "case.yaml:1: (top level): keys must be names, got a list of 2");
+}
+
+TEST(CaseReader, RejectsBadNamesAndEmptyMaps) {
+  EXPECT_EQ(error_of(edited(kMinimal, "name: bar", "name: my bar")),
+            "case.yaml:1: name: invalid case name 'my bar' (use letters, digits, _, - and .)");
+  EXPECT_EQ(error_of(edited(kMinimal, "  bar:\n", "  bar-1:\n")),
+            "case.yaml:6: bodies.bar-1: invalid body name (use letters, digits and _)");
+  const std::string probe = "probes:\n  - {name: tip-1, body: bar, point: [0, 0, 0]}\n";
+  EXPECT_EQ(error_of(kMinimal + probe),
+            "case.yaml:12: probes.0.name: invalid probe name 'tip-1' (use letters, digits and _)");
+  const std::string steel =
+      "  steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}\n";
+  EXPECT_EQ(error_of(edited(kMinimal, "materials:\n" + steel, "materials: {}\n")),
+            "case.yaml:3: materials: must define at least one material");
+  EXPECT_EQ(error_of(kMinimal.substr(0, kMinimal.find("bodies:")) + "bodies: {}\n"),
+            "case.yaml:5: bodies: must define at least one body");
+}
+
+TEST(CaseReader, RejectsBadVelocityConditions) {
+  const std::string condition =
+      "boundary_conditions:\n  - {type: velocity, body: bar, face: zmin, ";
+  EXPECT_EQ(error_of(kMinimal + condition + "velocity: -1}\n"),
+            "case.yaml:12: boundary_conditions.0.velocity: must be a list of 3 entries [vx, vy, "
+            "vz], each a number or ~, got -1");
+  EXPECT_EQ(error_of(kMinimal + condition + "velocity: [~, ~, ~]}\n"),
+            "case.yaml:12: boundary_conditions.0.velocity: must prescribe at least one "
+            "component, got [~, ~, ~]");
+  const std::string function = "velocity: [0, 0, -1], function: [[0, 0], [1e-6]]}\n";
+  EXPECT_EQ(error_of(kMinimal + condition + function),
+            "case.yaml:12: boundary_conditions.0.function.1: must be a row [t, f] of 2 numbers, "
+            "got a list of 1");
+  const std::string fixed =
+      "boundary_conditions:\n  - {type: fixed, body: bar, face: zmin, function: [[0, 1]]}\n";
+  EXPECT_EQ(error_of(kMinimal + fixed),
+            "case.yaml:12: boundary_conditions.0.function: only allowed for type velocity");
 }
 
 // ---- SPH bodies and the sph section ---------------------------------------------------------
@@ -721,6 +767,34 @@ TEST(CaseReaderSph, OverridesSphKeys) {
   EXPECT_NEAR(c.sph.cfl, 0.25, 1e-15);
   EXPECT_EQ(error_of(kSph, {"bodies.bar.h_factor=3"}),
             "--set bodies.bar.h_factor: bodies.bar.h_factor: must be in [1.0, 2.0], got 3");
+}
+
+// Rings, quarter cylinders and the section plane: the checks beyond a number's range.
+TEST(CaseReader, RejectsImpossibleGeometry) {
+  const std::string box = "{box: {min: [0, 0, 0], max: [0.005, 0.005, 0.1]}}";
+  const auto fem = [&](const std::string& geometry) {
+    return error_of(edited(kMinimal, box, geometry));
+  };
+  EXPECT_EQ(fem("{cylinder: {base: [0, 0, 0], axis: [0, 0, 0], radius: 0.01}}"),
+            "case.yaml:8: bodies.bar.geometry.cylinder.axis: empty geometry: the axis must have "
+            "a non-zero length");
+  EXPECT_EQ(fem("{cylinder: {base: [0, 0, 0], axis: [0.1, 0, 0], radius: 0.01, sector: quarter}}"),
+            "case.yaml:8: bodies.bar.geometry.cylinder.axis: a quarter cylinder needs an axis "
+            "along +z, got [0.1, 0, 0]");
+  EXPECT_TRUE(reports(fem("{ring: {base: [0, 0, 0], half_width: 0.01, radius: 0.014, "
+                          "thickness: 0.005}}"),
+                      "case.yaml:8: bodies.bar.geometry.ring.radius: ",
+                      "must exceed the hole's corner distance √2 · half_width = 0.014142 m"));
+  const std::string sph_ring = "{ring: {base: [0, 0, 0], half_width: 0.01, radius: 0.05, "
+                               "thickness: 0.005}}";
+  EXPECT_EQ(error_of(edited(kSph, box, sph_ring)),
+            "case.yaml:8: bodies.bar.geometry.ring: a ring is only meshed in hexahedra (method "
+            "fem)");
+  EXPECT_EQ(error_of(edited(kSphCylinder, "radius: 0.003}", "radius: 0.003, sector: quarter}")),
+            "case.yaml:8: bodies.bar.geometry.cylinder.sector: quarter is only meshed in "
+            "hexahedra (method fem); an sph body takes a box");
+  EXPECT_EQ(error_of(kMinimal + "output: {section: {point: [0, 0, 0], normal: [0, 0, 0]}}\n"),
+            "case.yaml:11: output.section.normal: must be a non-zero vector");
 }
 
 // ---- geometry files -------------------------------------------------------------------------
@@ -1087,6 +1161,38 @@ TEST(CaseReader, MaterialLibraryErrorsNameTheFileAndEntry) {
   EXPECT_TRUE(
       reports(error_of(edited(kMinimal, line, "steel: {library: no_such_library.yaml}")),
               "case.yaml:4: materials.steel.library: ", "no_such_library.yaml: no such file"));
+  EXPECT_EQ(error_of(edited(kMinimal, line, "steel: {library: [weldox460e.yaml]}")),
+            "case.yaml:4: materials.steel.library: must be a file name (a material library, "
+            "cases/materials/)");
+  EXPECT_EQ(
+      error_of(edited(kMinimal, line,
+                      "steel: {library: " + kLibraries + "weldox460e.yaml, entry: [weldox460e]}")),
+      "case.yaml:4: materials.steel.entry: must be the name of a material in the library");
+  // A changed key keeps its own line (the library's entry is merged under it).
+  EXPECT_EQ(error_of(edited(kMinimal, line,
+                            "steel:\n    library: " + kLibraries +
+                                "weldox460e.yaml\n    entry: weldox460e\n    density: -1")),
+            "case.yaml:7: materials.steel.density: must be > 0 kg/m³, got -1");
+}
+
+// A library that refers back to a file being read would be read forever (a stack overflow).
+TEST_F(CaseFiles, RejectsMaterialLibrariesInACycle) {
+  std::ofstream(dir_ / "a.yaml") << "materials:\n  steel: {library: b.yaml}\n";
+  std::ofstream(dir_ / "b.yaml") << "materials:\n  steel: {library: a.yaml}\n";
+  const std::string line =
+      "steel: {model: elastic, density: 7830, youngs_modulus: 207e9, poisson_ratio: 0.3}";
+  const std::filesystem::path file = dir_ / "case.yaml";
+  std::ofstream(file) << edited(kMinimal, line, "steel: {library: a.yaml}");
+  const std::filesystem::path a = std::filesystem::canonical(dir_ / "a.yaml");
+  const std::filesystem::path b = std::filesystem::canonical(dir_ / "b.yaml");
+  EXPECT_EQ(error_message([&] { read_case(file); }),
+            (dir_ / "b.yaml").string() + ":2: materials.steel.library: " +
+                (dir_ / "a.yaml").string() + ": the libraries refer to each other in a cycle (" +
+                a.string() + " -> " + b.string() + " -> " + a.string() + ")");
+  std::ofstream(file) << edited(kMinimal, line, "steel: {library: case.yaml}");
+  EXPECT_TRUE(reports(error_message([&] { read_case(file); }),
+                      file.string() + ":4: materials.steel.library: ",
+                      "the libraries refer to each other in a cycle"));
 }
 
 } // namespace

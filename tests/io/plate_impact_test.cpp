@@ -144,6 +144,10 @@ TEST(PlateImpactScene, BadScenesAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of({"core.spacing=0.0032"}).find("ends in .5"), std::string::npos)
       << error_of({"core.spacing=0.0032"});
+  // The scene's own checks are reported at the top of the file, under "scene plate_impact".
+  EXPECT_EQ(error_of({"core.spacing=0.013"}),
+            "plate.yaml:1: scene plate_impact: core.spacing: 0.013 m is coarser than the core's "
+            "half-width or the plate's thickness");
   // Bodies are the scene's to make; an unknown scene is named.
   EXPECT_NE(error_of({"bodies.extra.method=fem"}).find("bodies: unknown key"), std::string::npos)
       << error_of({"bodies.extra.method=fem"});

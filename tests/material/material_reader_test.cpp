@@ -1,6 +1,6 @@
 // Tests of reading material blocks (solver/io/case_reader.hpp, read_materials): a library entry
 // with every block, the defaults, a case file read as a library, and one test per class of bad
-// input, each checking the reported file, line and key path.
+// input, each checking the reported file, line and key path, and a file that is not there.
 #include "solver/core/error.hpp"
 #include "solver/io/case_reader.hpp"
 
@@ -147,6 +147,23 @@ TEST(MaterialReader, RejectsBadValues) {
                       "lib.yaml:19: materials.plate.eos.model: ", "mie_gruneisen"));
   EXPECT_TRUE(reports(error_of(edited(kFull, "erosion: true", "erosion: 1.5")),
                       "lib.yaml:20: materials.plate.erosion: ", "true or false"));
+}
+
+TEST(MaterialReader, ErosionNeedsADamageBlock) {
+  EXPECT_EQ(error_of(kLibrary + "    erosion: true\n"),
+            "lib.yaml:14: materials.plate.erosion: needs a damage block: only failed elements are "
+            "eroded");
+}
+
+TEST(MaterialReader, ReportsAMissingFile) {
+  const std::string file = "no_such_library.yaml";
+  try {
+    read_materials(file);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(file + ": cannot open the materials file (", 0), 0u)
+        << e.what();
+  }
 }
 
 TEST(MaterialReader, MeltingMustExceedTheReferenceTemperature) {

@@ -1,7 +1,8 @@
 // Fragments and the plug (post/fragments.hpp, post/plug.hpp): on synthetic particle lattices
 // and hexahedra, the components, their sums and sizes are exact; the cell-list search equals a
 // brute-force one; and `sphfem post plug` on a tiny perforation run accounts for the plate's
-// whole mass, draws its picture and rejects an unknown body without writing anything.
+// whole mass, draws its picture and rejects an unknown body without writing anything, and on
+// run folders with a missing or bad file (model.h5, the frames) fails with one line naming it.
 #include "png_pixels.hpp"
 #include "tests/support/command.hpp"
 
@@ -11,6 +12,7 @@
 #include "tests/support/punch_case.hpp"
 
 #include <nlohmann/json.hpp>
+#include <vtkCellType.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -392,4 +394,136 @@ TEST(PostPlug, SeveralParticleBodiesNeedBody) {
   EXPECT_FALSE(fs::exists(dir / "post"));
   if (!HasFailure())
     fs::remove_all(dir);
+}
+
+namespace {
+
+// A data array of a frame file: its name, components, values as text, and where it lives.
+struct VtuArray {
+  std::string name;
+  int components;
+  std::string values;
+  bool on_cells = false;
+};
+
+// A frame file in VTK's ASCII XML: `points` points 1 mm apart along x, one vertex per point
+// (cell_type VTK_VERTEX) or one cell of `cell_type` over all of them, and `arrays`.
+void write_vtu(const fs::path& file, int points, int cell_type,
+               const std::vector<VtuArray>& arrays) {
+  const bool vertices = cell_type == VTK_VERTEX;
+  std::ostringstream xyz, connectivity, offsets, types, point_data, cell_data;
+  for (int i = 0; i < points; ++i) {
+    xyz << i * 1e-3 << " 0 0 ";
+    connectivity << i << " ";
+    if (vertices) {
+      offsets << i + 1 << " ";
+      types << VTK_VERTEX << " ";
+    }
+  }
+  if (!vertices) {
+    offsets << points;
+    types << cell_type;
+  }
+  for (const VtuArray& a : arrays)
+    (a.on_cells ? cell_data : point_data)
+        << "<DataArray type=\"Float64\" Name=\"" << a.name << "\" NumberOfComponents=\""
+        << a.components << "\" format=\"ascii\">" << a.values << "</DataArray>\n";
+  const auto array = [](const char* type, const char* name, const std::ostringstream& values) {
+    return std::string("<DataArray type=\"") + type + "\" Name=\"" + name + "\" format=\"ascii\">" +
+           values.str() + "</DataArray>\n";
+  };
+  fs::create_directories(file.parent_path());
+  std::ofstream(file) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" "
+                         "version=\"0.1\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\""
+                      << points << "\" NumberOfCells=\"" << (vertices ? points : 1) << "\">\n"
+                      << "<PointData>\n"
+                      << point_data.str() << "</PointData>\n<CellData>\n"
+                      << cell_data.str() << "</CellData>\n<Points><DataArray type=\"Float64\" "
+                      << "NumberOfComponents=\"3\" format=\"ascii\">" << xyz.str()
+                      << "</DataArray></Points>\n<Cells>\n"
+                      << array("Int64", "connectivity", connectivity)
+                      << array("Int64", "offsets", offsets) << array("UInt8", "types", types)
+                      << "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+// results.pvd of one frame at t = 0 with the particle file and, if `fe`, an FE file.
+void write_one_frame_pvd(const fs::path& run, bool fe) {
+  std::ofstream(run / "results.pvd")
+      << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
+      << "<Collection>\n<DataSet timestep=\"0\" part=\"0\" file=\"frames/sph_000000.vtu\"/>\n"
+      << (fe ? "<DataSet timestep=\"0\" part=\"1\" file=\"frames/fe_000000.vtu\"/>\n" : "")
+      << "</Collection>\n</VTKFile>\n";
+}
+
+// model.h5 of a plate of one particle and a body "ghost" with nothing in it.
+void write_plate_model(const fs::path& run) {
+  Model m;
+  m.body_names = {"plate", "ghost"};
+  m.spacing_b = {dp, 0};
+  m.x_p = {Vec3::Zero()};
+  m.m_p = {1e-6};
+  m.rho_p = {7850};
+  m.h_p = {1.2 * dp};
+  m.body_p = {0};
+  write_model_h5(m, run / "model.h5");
+}
+
+} // namespace
+
+// A run folder with a file missing or wrong in one way: `post plug` fails with one line naming
+// the file and the fault, and writes nothing. The same folder with good files gives a result, so
+// each fault alone is the cause.
+TEST(PostPlug, BadRunFilesAreOneLineErrors) {
+  test::Scratch scratch("plug_bad_files");
+  const fs::path& dir = scratch.dir;
+  const VtuArray velocity{"velocity", 3, "0 0 0"}, mass{"mass", 1, "1e-6"}, body{"body_id", 1, "0"};
+  // One folder per case: the plate model, one frame, the particle file given.
+  const auto folder = [&](const std::string& name, const std::vector<VtuArray>& particle) {
+    const fs::path run = dir / name;
+    fs::create_directories(run);
+    write_plate_model(run);
+    write_one_frame_pvd(run, false);
+    write_vtu(run / "frames" / "sph_000000.vtu", 1, VTK_VERTEX, particle);
+    return run;
+  };
+  const fs::path good = folder("good", {velocity, mass, body});
+  const Result ok = run_sphfem("post plug " + good.string(), dir);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  ASSERT_TRUE(fs::exists(good / "post" / "plug.json"));
+
+  std::vector<std::pair<std::string, std::string>> cases; // arguments, message
+  cases.push_back({(dir / "missing").string(), "missing: no such run folder"});
+  fs::create_directories(dir / "no_model");
+  write_one_frame_pvd(dir / "no_model", false);
+  cases.push_back({(dir / "no_model").string(), "no_model: no model.h5"});
+  const fs::path no_particles = folder("no_particles", {velocity, mass, body});
+  Model empty;
+  empty.body_names = {"plate"};
+  write_model_h5(empty, no_particles / "model.h5");
+  cases.push_back({no_particles.string(), "model.h5: no body has particles; choose the target "
+                                          "with --body (bodies: plate)"});
+  cases.push_back({good.string() + " --body ghost", "--body ghost: has neither particles nor "
+                                                    "elements"});
+  cases.push_back(
+      {folder("no_velocity", {mass, body}).string(), "sph_000000.vtu: no velocity array"});
+  cases.push_back({folder("wide_mass", {velocity, {"mass", 3, "1 2 3"}, body}).string(),
+                   "sph_000000.vtu: array mass has 1×3 values, expected 1×1"});
+  cases.push_back({folder("other_body", {velocity, mass, {"body_id", 1, "1"}}).string(),
+                   "sph_000000.vtu: no particles or elements of body plate"});
+  const fs::path tetra = folder("tetra", {velocity, mass, body});
+  write_one_frame_pvd(tetra, true);
+  write_vtu(tetra / "frames" / "fe_000000.vtu", 4, VTK_TETRA,
+            {{"velocity", 3, "0 0 0 0 0 0 0 0 0 0 0 0"},
+             {"density", 1, "7850", true},
+             {"body_id", 1, "0", true}});
+  cases.push_back({tetra.string(), "fe_000000.vtu: cell 0 is not a hexahedron"});
+  for (const auto& [args, message] : cases) {
+    const fs::path out = dir / "out";
+    const Result r = run_sphfem("post plug " + args + " -o " + out.string(), dir);
+    EXPECT_NE(r.code, 0) << args;
+    EXPECT_EQ(r.err.rfind("sphfem: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
 }

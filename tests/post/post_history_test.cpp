@@ -1,7 +1,8 @@
 // `sphfem post history` end to end, with DISPLAY unset: on synthetic histories of known straight
 // lines the PNG has the asked size, is not blank and shows each run's curve (and the dashed
 // reference) where the data put it; the CSV holds exactly the plotted data in the chart's
-// units; bad input fails with one line naming the problem and writes nothing.
+// units; bad input (options, a run's history.csv, the reference CSV) fails with one line naming
+// the problem and writes nothing.
 #include "png_pixels.hpp"
 #include "tests/support/command.hpp"
 
@@ -194,6 +195,14 @@ TEST(PostHistory, BadInputFailsWithOneLineAndWritesNothing) {
   std::ofstream(dir / "short.csv") << "time,tip.vz\n0,0\n1e-6\n";
   std::ofstream(dir / "notime.csv") << "t,tip.vz\n0,0\n";
   std::ofstream(dir / "other.csv") << "time,tip.vx\n0,0\n";
+  std::ofstream(dir / "empty.csv") << "# only a comment\n\n";
+  std::ofstream(dir / "blank.csv") << "time,,tip.vz\n0,0,0\n";
+  std::ofstream(dir / "twice.csv") << "time,tip.vz,tip.vz\n0,0,0\n";
+  // Runs whose own history.csv lacks the time, or any column a chart is drawn of by default.
+  fs::create_directories(dir / "untimed");
+  std::ofstream(dir / "untimed" / "history.csv") << "t,tip.vz\n0,0\n";
+  fs::create_directories(dir / "energies");
+  std::ofstream(dir / "energies" / "history.csv") << "time,energy.kinetic\n0,1\n";
   const std::string out = " -o " + (dir / "p").string();
   const std::string ref = " --columns tip.vz --reference " + dir.string() + "/";
   const std::vector<std::pair<std::string, std::string>> cases = {
@@ -208,6 +217,16 @@ TEST(PostHistory, BadInputFailsWithOneLineAndWritesNothing) {
       {"post history " + a.string() + ref + "other.csv",
        "other.csv:1: none of the plotted columns"},
       {"post history " + a.string() + ref + "absent.csv", "absent.csv: cannot open"},
+      {"post history " + a.string() + ref + "empty.csv",
+       "empty.csv: empty file, expected a header line"},
+      {"post history " + a.string() + ref + "blank.csv", "blank.csv:1: empty column name"},
+      {"post history " + a.string() + ref + "twice.csv",
+       "twice.csv:1: column tip.vz appears twice"},
+      {"post history " + (dir / "untimed").string() + " --columns tip.vz",
+       "untimed/history.csv: no time column"},
+      {"post history " + (dir / "energies").string(),
+       "energies/history.csv: no probe or body velocity columns; choose some with --columns "
+       "from: time, energy.kinetic"},
       {"post history " + a.string() + " --label x y", "2 --label values for 1 runs"},
       {"post history " + a.string() + " --time-unit h", "--time-unit h: expected s, ms, us or ns"},
       {"post history " + a.string() + " --size 640", "--size 640: expected WIDTHxHEIGHT"},

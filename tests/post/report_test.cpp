@@ -1,7 +1,8 @@
 // Tests of `sphfem post report` (post/report.hpp): base64 against RFC 4648's vectors; the
 // reference file's reader and its errors; a report for a run without reference values and
 // for one whose case folder has them (values read back from the page), written by `sphfem run`
-// itself at the end of the run.
+// itself at the end of the run; and the errors of a run folder with a bad summary.json or
+// history.csv.
 #include "post/report.hpp"
 #include "tests/support/command.hpp"
 
@@ -14,6 +15,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 using sphfem::test::slurp;
@@ -78,6 +82,19 @@ TEST(Report, ReferenceFileErrorsNameTheLine) {
   EXPECT_NE(message(dir / "bad_value.csv").find("bad_value.csv:3: value '12x' is not a number"),
             std::string::npos)
       << message(dir / "bad_value.csv");
+  std::ofstream(dir / "bad_when.csv") << "quantity,value,unit,source,when\nsteps,12,,,preset\n";
+  EXPECT_NE(
+      message(dir / "bad_when.csv").find("bad_when.csv:2: when 'preset': expected path=value"),
+      std::string::npos)
+      << message(dir / "bad_when.csv");
+  std::ofstream(dir / "empty.csv") << "# only a comment\n\n";
+  EXPECT_NE(message(dir / "empty.csv")
+                .find("empty.csv: empty (expected the header quantity,value,unit,source)"),
+            std::string::npos)
+      << message(dir / "empty.csv");
+  EXPECT_NE(message(dir / "absent.csv").find("absent.csv: cannot open the reference file"),
+            std::string::npos)
+      << message(dir / "absent.csv");
   const auto rows = [&] {
     std::ofstream(dir / "good.csv") << "quantity,value,unit,source\n"
                                        "bodies.bar.mass,0.019575,kg,\"rho V, exact\"\n";
@@ -139,4 +156,87 @@ TEST(Report, MissingRunIsAClearError) {
         << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "report"));
+}
+
+// A run folder whose summary.json or history.csv is wrong in one way: one Error naming the file
+// and the key or column (not the JSON library's own text), and no report folder. The same folder
+// with good files gives a report, so each fault alone is the cause.
+TEST(Report, BadRunFilesAreOneLineErrors) {
+  const fs::path dir = scratch("bad_files");
+  const std::string good_summary =
+      R"({"case": "bar", "counts": {"elements": 1}, "energy": {"balance_error": 0},
+          "bodies": {"bar": {"mass": 1, "com_velocity": [0, 0, -1]}}})";
+  const std::string good_history =
+      "time,body.bar.vx,body.bar.vy,body.bar.vz\n0,0,0,-1\n1e-6,0,0,-1\n";
+  const auto folder = [&](const std::string& name, const std::string& summary,
+                          const std::string& history) {
+    const fs::path run = dir / name;
+    fs::create_directories(run);
+    std::ofstream(run / "summary.json") << summary;
+    if (!history.empty())
+      std::ofstream(run / "history.csv") << history;
+    return run;
+  };
+  const auto message = [](const fs::path& run, const fs::path& reference = {}) -> std::string {
+    try {
+      post::write_report({run, reference, {}});
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  // A reference quantity with an index beyond any array is not in this run (it was an uncaught
+  // out_of_range).
+  std::ofstream(dir / "reference.csv")
+      << "quantity,value,unit,source\nbodies.bar.com_velocity.2,-1,m/s,\n"
+         "bodies.bar.com_velocity.99999999999999999999999,0,m/s,\n";
+  const fs::path good = folder("good", good_summary, good_history);
+  const post::Report report = post::write_report({good, dir / "reference.csv", {}});
+  EXPECT_TRUE(fs::is_regular_file(report.html));
+  ASSERT_EQ(report.references.size(), 2u);
+  EXPECT_TRUE(report.references[0].found);
+  EXPECT_FALSE(report.references[1].found);
+
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good_summary;
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return at == std::string::npos ? text : text.replace(at, from.size(), to);
+  };
+  const std::vector<std::pair<fs::path, std::string>> cases = {
+      {folder("not_json", "{\"case\": ", good_history), "summary.json: not valid JSON: "},
+      {folder("list", "[1, 2]", good_history),
+       "summary.json: (top level): expected an object (the run's summary), got array"},
+      {folder("no_counts", with(R"("counts": {"elements": 1}, )", ""), good_history),
+       "summary.json: counts: expected an object, got nothing (missing key)"},
+      {folder("text_count", with(R"({"elements": 1})", R"({"elements": "one"})"), good_history),
+       "summary.json: counts.elements: expected a number, got string"},
+      {folder("energy_list", with(R"({"balance_error": 0})", "[0]"), good_history),
+       "summary.json: energy: expected an object, got array"},
+      {folder("case_number", with(R"("case": "bar")", R"("case": 3)"), good_history),
+       "summary.json: case: expected a string, got number"},
+      {folder("short_velocity", with("[0, 0, -1]", "[0, -1]"), good_history),
+       "summary.json: bodies.bar.com_velocity: expected 3 numbers [vx, vy, vz], got array"},
+      {folder("no_velocity", with(R"(, "com_velocity": [0, 0, -1])", ""), good_history),
+       "summary.json: bodies.bar.com_velocity: expected 3 numbers [vx, vy, vz], got nothing "
+       "(missing key)"},
+      {folder("text_mass", with(R"("mass": 1)", R"("mass": "1 kg")"), good_history),
+       "summary.json: bodies.bar.mass: expected a number, got string"},
+      {folder("bad_plane",
+              with(R"("case": "bar")", R"("case": "bar", "section_plane": {"point": [0, 0, 0],
+                   "normal": [0, 1, 0], "u_range": [1]})"),
+              good_history),
+       "summary.json: section_plane.u_range: expected 2 numbers [u0, u1], got array"},
+      {folder("no_history", good_summary, ""), "history.csv: cannot open"},
+      {folder("untimed", good_summary, "t,body.bar.vx,body.bar.vy,body.bar.vz\n0,0,0,0\n"),
+       "history.csv:1: no time column"},
+      {folder("no_vy", good_summary, "time,body.bar.vx,body.bar.vz\n0,0,0\n"),
+       "history.csv:1: no column body.bar.vy ("},
+  };
+  for (const auto& [run, expected] : cases) {
+    const std::string what = message(run);
+    EXPECT_NE(what.find(expected), std::string::npos) << run << "\n" << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_FALSE(fs::exists(run / "report")) << run;
+  }
 }

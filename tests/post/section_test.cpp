@@ -1,7 +1,8 @@
 // `sphfem post section` on inputs with known answers: frames written here with VTK's writer
 // (an undeformed FE box, a disk of particles, a plate bent into a paraboloid) and a real tiny
 // run through the command. Checks the section's shape (shoelace area, equivalent radius), the
-// deflection profile, the files and the one-line errors.
+// deflection profile, the files and the one-line errors, for bad options and for bad run files
+// (results.pvd and the frames it lists).
 #include "png_pixels.hpp"
 #include "tests/support/command.hpp"
 
@@ -421,6 +422,121 @@ TEST(Section, CommandOnATinyRunWritesTheFiles) {
     EXPECT_NE(e.err.find(message), std::string::npos) << args << "\n" << e.err;
     EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << e.err;
     EXPECT_FALSE(fs::exists(dir / "p")) << args;
+  }
+}
+
+// A run folder whose results.pvd or frame is wrong in one way: the command fails with one line
+// naming the file and the fault (VTK's own messages, several lines each, are not printed) and
+// writes nothing. The same folder with good files is cut, so each fault alone is the cause.
+TEST(Section, BadRunFilesAreOneLineErrors) {
+  const Scratch scratch("section_bad_files");
+  const fs::path& dir = scratch.dir;
+  const auto unit_hex = [](bool with_displacement,
+                           std::vector<vtkIdType> ids = {0, 1, 2, 3, 4, 5, 6, 7}) {
+    vtkNew<vtkPoints> points;
+    std::vector<Vec3> zero;
+    for (const auto& c : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+                          Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1)}) {
+      points->InsertNextPoint(c.data());
+      zero.push_back(Vec3::Zero());
+    }
+    vtkNew<vtkUnstructuredGrid> grid;
+    grid->SetPoints(points);
+    grid->InsertNextCell(VTK_HEXAHEDRON, vtkIdType(ids.size()), ids.data());
+    if (with_displacement)
+      grid->GetPointData()->AddArray(vectors("displacement", zero));
+    grid->GetCellData()->AddArray(zeros("body_id", 1));
+    return grid;
+  };
+  const auto particle_without_h = [] {
+    vtkNew<vtkPoints> points;
+    const vtkIdType id = points->InsertNextPoint(0, 0, 0);
+    vtkNew<vtkCellArray> cells;
+    cells->InsertNextCell(1, &id);
+    vtkNew<vtkUnstructuredGrid> grid;
+    grid->SetPoints(points);
+    grid->SetCells(VTK_VERTEX, cells);
+    auto* pd = grid->GetPointData();
+    pd->AddArray(vectors("displacement", {Vec3::Zero()}));
+    pd->AddArray(scalars("mass", 1, 1e-6));
+    pd->AddArray(scalars("density", 1, 7800));
+    pd->AddArray(zeros("body_id", 1));
+    return grid;
+  };
+  const auto folder = [&](const std::string& name) {
+    fs::create_directories(dir / name);
+    return dir / name;
+  };
+  fs::path run = folder("good");
+  write_grid(run / "frames" / "fe_000000.vtu", unit_hex(true));
+  write_pvd(run, true, false);
+  const std::string plane = " --plane 0.5,0.5,0.5,1,0,0";
+  const Result good = run_sphfem("post section " + run.string() + plane, dir);
+  ASSERT_EQ(good.code, 0) << good.err;
+
+  std::vector<std::pair<fs::path, std::string>> cases;
+  run = folder("timestep");
+  fs::copy(dir / "good" / "frames", run / "frames");
+  write_pvd(run, true, false);
+  std::string pvd = slurp(run / "results.pvd");
+  pvd.replace(pvd.find("1e-05"), 5, "soon");
+  std::ofstream(run / "results.pvd") << pvd;
+  cases.push_back({run, "results.pvd:4: DataSet timestep \"soon\": expected a time in s"});
+  run = folder("no_frames");
+  write_pvd(run, false, false);
+  cases.push_back({run, "results.pvd: lists no frames"});
+  run = folder("missing_frame");
+  write_pvd(run, true, false);
+  cases.push_back({run, "frames/fe_000000.vtu: no such frame file"});
+  run = folder("garbage");
+  write_pvd(run, true, false);
+  fs::create_directories(run / "frames");
+  std::ofstream(run / "frames" / "fe_000000.vtu") << "not a frame\n";
+  cases.push_back({run, "fe_000000.vtu: cannot read the frame (VTK: Error parsing XML"});
+  run = folder("truncated");
+  write_pvd(run, true, false);
+  fs::create_directories(run / "frames");
+  const std::string frame = slurp(dir / "good" / "frames" / "fe_000000.vtu");
+  std::ofstream(run / "frames" / "fe_000000.vtu") << frame.substr(0, frame.find("<Cells>"));
+  cases.push_back({run, "fe_000000.vtu: cannot read the frame (VTK: "});
+  run = folder("no_points");
+  write_pvd(run, true, false);
+  fs::create_directories(run / "frames");
+  // A well-formed file of no points (VTK's writer leaves out the Points element, which its
+  // reader then rejects).
+  std::ofstream(run / "frames" / "fe_000000.vtu")
+      << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n"
+         "<UnstructuredGrid><Piece NumberOfPoints=\"0\" NumberOfCells=\"0\">\n"
+         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+         "</DataArray></Points>\n<Cells>"
+         "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\"></DataArray>"
+         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\"></DataArray>"
+         "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\"></DataArray></Cells>\n"
+         "</Piece></UnstructuredGrid>\n</VTKFile>\n";
+  cases.push_back({run, "fe_000000.vtu: cannot read the frame (it has no points)"});
+  run = folder("no_displacement");
+  write_pvd(run, true, false);
+  write_grid(run / "frames" / "fe_000000.vtu", unit_hex(false));
+  cases.push_back({run, "fe_000000.vtu: no displacement array with 3 component(s)"});
+  run = folder("point_beyond");
+  write_pvd(run, true, false);
+  write_grid(run / "frames" / "fe_000000.vtu", unit_hex(true, {0, 1, 2, 3, 4, 5, 6, 99}));
+  cases.push_back({run, "fe_000000.vtu: cell 0 refers to point 99, expected 0 to 7"});
+  run = folder("seven_nodes");
+  write_pvd(run, true, false);
+  write_grid(run / "frames" / "fe_000000.vtu", unit_hex(true, {0, 1, 2, 3, 4, 5, 6}));
+  cases.push_back({run, "fe_000000.vtu: cell 0 is a hexahedron of 7 points, expected 8"});
+  run = folder("no_h");
+  write_pvd(run, false, true);
+  write_grid(run / "frames" / "sph_000000.vtu", particle_without_h());
+  cases.push_back({run, "sph_000000.vtu: no h array with 1 component(s)"});
+  for (const auto& [bad, message] : cases) {
+    const Result r = run_sphfem("post section " + bad.string() + plane, dir);
+    EXPECT_NE(r.code, 0) << bad;
+    EXPECT_EQ(r.err.rfind("sphfem: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << bad << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(bad / "post")) << bad;
   }
 }
 

@@ -147,6 +147,16 @@ TEST(SweepRun, MissingResultsAreUnknown) {
   EXPECT_FALSE(old.known());
   EXPECT_NE(old.note.find("results.perforated"), std::string::npos);
 
+  post::SweepRun broken; // a summary.json cut short: unknown, the note names the file
+  broken.folder = s.dir / "broken";
+  fs::create_directories(broken.folder);
+  std::ofstream(broken.folder / "summary.json") << R"({"results": {"perforated": tr)";
+  post::read_run_results(broken);
+  EXPECT_FALSE(broken.known());
+  EXPECT_EQ(broken.note.rfind((broken.folder / "summary.json").string() + ": ", 0), 0u)
+      << broken.note;
+  EXPECT_NE(broken.note.find("parse error"), std::string::npos) << broken.note;
+
   post::SweepRun done;
   done.folder = s.dir / "done";
   fs::create_directories(done.folder);
@@ -178,8 +188,22 @@ TEST(SweepReference, ReadsNamedColumnsAndReportsErrors) {
   EXPECT_NEAR(points[0].v0, 303.5, 1e-12);
   EXPECT_NEAR(points[0].vr, 199.7, 1e-12);
 
-  EXPECT_THROW(post::read_ballistic_reference(s.dir / "missing.csv"), Error);
-  EXPECT_THROW(post::read_ballistic_reference(table), Error); // no vr column
+  const auto message = [](const fs::path& file) -> std::string {
+    try {
+      post::read_ballistic_reference(file);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_EQ(message(s.dir / "missing.csv"),
+            (s.dir / "missing.csv").string() + ": cannot read the reference curve");
+  EXPECT_EQ(message(table), "--reference-columns: no column 'vr' in the header of " +
+                                table.string() + ":2, 'test,v0,exp_vpr'");
+  std::ofstream(s.dir / "empty.csv") << "v0,vr\n300,\n";
+  EXPECT_EQ(message(s.dir / "empty.csv"),
+            (s.dir / "empty.csv").string() +
+                ": no reference points in column 'vr' (rows with numbers in 'v0' and 'vr')");
   std::ofstream(s.dir / "bad.csv") << "v0,vr\n200,fast\n";
   try {
     post::read_ballistic_reference(s.dir / "bad.csv");
