@@ -73,14 +73,19 @@ CheckpointMeta meta() {
       2.5e-5, 77, 2, "model fingerprint", {{"time.cfl", "0.5"}, {"bodies.bar.spacing", "1e-3"}}};
 }
 
-std::string error_of(const fs::path& file) {
+// The message of the Error that reading `file` with `read` throws; empty if none is thrown.
+std::string read_error(const fs::path& file, const std::function<void(StateArchive&)>& read) {
   try {
-    State s;
-    read_checkpoint(file, [&](StateArchive& a) { s.persist(a); });
+    read_checkpoint(file, read);
   } catch (const Error& e) {
     return e.what();
   }
   return "";
+}
+
+std::string error_of(const fs::path& file) {
+  State s;
+  return read_error(file, [&](StateArchive& a) { s.persist(a); });
 }
 
 Model small_model() {
@@ -234,14 +239,7 @@ TEST(Checkpoint, InconsistentContentIsAnError) {
   const fs::path file = f.dir / "checkpoint.h5";
   State s = sample();
   write_checkpoint(file, meta(), [&](StateArchive& a) { s.persist(a); });
-  const auto error = [&](const std::function<void(StateArchive&)>& read) {
-    try {
-      read_checkpoint(file, read);
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto error = [&](const auto& read) { return read_error(file, read); };
   // A value where an array of two is stored.
   EXPECT_NE(error([](StateArchive& a) {
               Vec3 x;
@@ -303,14 +301,7 @@ TEST(Checkpoint, InconsistentContentIsAnError) {
 TEST(Checkpoint, RunOutputsOfAnotherKindAreRefused) {
   const Folder f;
   const fs::path file = f.dir / "checkpoint.h5";
-  const auto refusal = [&](const std::function<void(StateArchive&)>& read) {
-    try {
-      read_checkpoint(file, read);
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("read without an error");
-  };
+  const auto refusal = [&](const auto& read) { return read_error(file, read); };
 
   HistoryWriter written(f.dir / "written", {"time", "energy"});
   written.append({0.0, 1.0});
