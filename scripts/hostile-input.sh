@@ -57,8 +57,10 @@ for target in case_reader model_h5; do
   if ! "build-fuzz/fuzz/fuzz_$target" "$corpus/$target" -max_total_time="${FUZZ_SECONDS:-60}" \
     -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=16384 -artifact_prefix="$crashes/" \
     -print_final_stats=1 2>"$log"; then
-    grep -v '^"' "$log" | tail -40
-    echo "fuzz: $target failed; the input is in $crashes"
+    # The whole report (sanitizer's stack, libFuzzer's reason), from its first line on.
+    grep -v '^"' "$log" | awk '/ERROR: |runtime error: |Test unit written/ { found = 1 } found'
+    echo "fuzz: $target failed; the input is in $crashes:"
+    ls -l "$crashes"
     exit 1
   fi
   grep -E "stat::number_of_executed_units" "$log"

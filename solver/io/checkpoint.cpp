@@ -2,7 +2,9 @@
 
 #include "solver/core/error.hpp"
 #include "solver/io/atomic_file.hpp"
+#include "solver/io/fnv1a.hpp"
 #include "solver/io/hdf5_errors.hpp"
+#include "solver/io/sealed_h5.hpp"
 
 #include <H5Cpp.h>
 #include <nlohmann/json.hpp>
@@ -19,7 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* format_name = "sphfem-checkpoint";
-constexpr int format_version = 1;
+// Version 2: the file is sealed (sealed_h5.hpp).
+constexpr int format_version = 2;
 
 // Fields as byte datasets [count × element bytes] with the element size as an attribute.
 class H5Archive final : public StateArchive {
@@ -102,7 +105,7 @@ void persist_meta(StateArchive& a, CheckpointMeta& meta) {
 template <class Read> auto read_file(const fs::path& file, Read read) {
   const Hdf5Errors errors;
   try {
-    expect_hdf5_file(file);
+    check_h5_seal(file);
     H5::H5File h5(file.string(), H5F_ACC_RDONLY);
     SPHFEM_CHECK(h5.attrExists("format") && h5.attrExists("version"),
                  "not a checkpoint (no format attribute)");
@@ -129,17 +132,6 @@ template <class Read> auto read_file(const fs::path& file, Read read) {
   }
 }
 
-// 64-bit FNV-1a over byte spans.
-struct Fnv1a {
-  std::uint64_t hash = 0xcbf29ce484222325ull;
-  template <class T> void add(const std::vector<T>& v) {
-    for (auto byte : std::as_bytes(std::span(v))) {
-      hash ^= static_cast<std::uint64_t>(byte);
-      hash *= 0x100000001b3ull;
-    }
-  }
-};
-
 } // namespace
 
 void write_checkpoint(const fs::path& file, const CheckpointMeta& meta,
@@ -147,7 +139,7 @@ void write_checkpoint(const fs::path& file, const CheckpointMeta& meta,
   write_atomically(file, [&](const fs::path& temporary) {
     const Hdf5Errors errors;
     try {
-      H5::H5File h5(temporary.string(), H5F_ACC_TRUNC);
+      H5::H5File h5(temporary.string(), H5F_ACC_TRUNC, sealed_file_properties());
       const std::string format = format_name;
       const H5::StrType text(H5::PredType::C_S1, format.size());
       const H5::DataSpace scalar(H5S_SCALAR);
@@ -158,6 +150,8 @@ void write_checkpoint(const fs::path& file, const CheckpointMeta& meta,
       CheckpointMeta copy = meta;
       persist_meta(archive, copy);
       persist(archive);
+      h5.close();
+      seal_h5_file(temporary);
     } catch (const H5::Exception& e) {
       throw Error(
           detail::concat("checkpoint ", temporary, ": HDF5 cannot write it: ", errors.describe(e)));

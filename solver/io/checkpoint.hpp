@@ -1,9 +1,9 @@
 // OUT/checkpoint.h5: the complete state of a run, to continue it with
 // `sphfem solve CASE -o OUT --restart OUT/checkpoint.h5` (DESIGN.md, Files). Layout: root
-// attributes `format` ("sphfem-checkpoint") and `version`; /meta — time, step, thread count,
-// the model's fingerprint and the case's keys as parsed; then every field the run's persist()
-// functions name (StateArchive), each a dataset of its bytes with the element size as an
-// attribute. Written to a temporary name and renamed, so the previous checkpoint stays whole
+// attributes `format` ("sphfem-checkpoint") and `version` (2: sealed, sealed_h5.hpp); /meta — time,
+// step, thread count, the model's fingerprint and the case's keys as parsed; then every field the
+// run's persist() functions name (StateArchive), each a dataset of its bytes with the element size
+// as an attribute. Written to a temporary name and renamed, so the previous checkpoint stays whole
 // until the new one is. Reading refuses, with a message naming the file, anything that is not
 // a complete checkpoint of this version and layout. Verified by tests/io/checkpoint_test.cpp
 // and tests/e2e/restart_test.cpp.

@@ -1,5 +1,3 @@
-// expect_hdf5_file: an Error ("no such file", "not a regular file", "not an HDF5 file") unless
-// `file` can be opened by HDF5; the caller prefixes what the file was to be.
 // Hdf5Errors: while alive, HDF5 prints nothing on failure and the innermost description of its
 // first failure (e.g. "truncated file: eof = …") is kept for our one-line message. Used by the
 // readers of model.h5 and checkpoint.h5.
@@ -14,13 +12,6 @@
 #include <system_error>
 
 namespace sphfem {
-
-inline void expect_hdf5_file(const std::filesystem::path& file) {
-  std::error_code status;
-  SPHFEM_CHECK(std::filesystem::exists(file, status), "no such file");
-  SPHFEM_CHECK(std::filesystem::is_regular_file(file, status), "not a regular file");
-  SPHFEM_CHECK(H5::H5File::isHdf5(file.string()), "not an HDF5 file");
-}
 
 class Hdf5Errors {
 public:

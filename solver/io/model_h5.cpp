@@ -6,6 +6,7 @@
 #include "solver/core/error.hpp"
 #include "solver/io/atomic_file.hpp"
 #include "solver/io/hdf5_errors.hpp"
+#include "solver/io/sealed_h5.hpp"
 
 #include <H5Cpp.h>
 
@@ -27,7 +28,9 @@ namespace fs = std::filesystem;
 constexpr const char* format_name = "sphfem-model";
 // Version 2: strings are fixed-length (version 1's variable-length strings let a corrupt file
 // make HDF5 allocate gigabytes before any check of ours could run; found by fuzzing).
-constexpr int format_version = 2;
+// Version 3: the file is sealed (sealed_h5.hpp; HDF5 read beyond its buffers on corrupt
+// attribute headers, found by fuzzing).
+constexpr int format_version = 3;
 constexpr std::size_t longest_string = 65536; // bytes, for a name, signature or unit
 constexpr hsize_t chunk_rows = 16384; // datasets longer than this are chunked and compressed
 
@@ -553,9 +556,10 @@ void write_model_h5(const Model& m, const fs::path& file) {
   const Hdf5Errors errors;
   try {
     write_atomically(file, [&](const fs::path& temporary) {
-      H5::H5File h5(temporary.string(), H5F_ACC_TRUNC);
+      H5::H5File h5(temporary.string(), H5F_ACC_TRUNC, sealed_file_properties());
       write_model(h5, m);
       h5.close();
+      seal_h5_file(temporary);
     });
   } catch (const H5::Exception& e) {
     throw Error(detail::concat("cannot write model file ", file, ": HDF5: ", errors.describe(e)));
@@ -567,7 +571,7 @@ void write_model_h5(const Model& m, const fs::path& file) {
 Model read_model_h5(const fs::path& file) {
   const Hdf5Errors errors;
   try {
-    expect_hdf5_file(file);
+    check_h5_seal(file);
     return read_model(H5::H5File(file.string(), H5F_ACC_RDONLY));
   } catch (const H5::Exception& e) {
     throw Error(detail::concat("model file ", file, ": HDF5 cannot read it: ", errors.describe(e)));

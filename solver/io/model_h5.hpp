@@ -1,8 +1,9 @@
 // model.h5: the meshed Model in a self-describing HDF5 file. Verified by
 // tests/io/model_h5_test.cpp.
 //
-// Layout (format "sphfem-model", format_version 2; indices 0-based int32, coordinates float64;
-// strings fixed-length UTF-8, null-padded — version 1's variable-length strings are refused):
+// Layout (format "sphfem-model", format_version 3, sealed: sealed_h5.hpp; indices 0-based
+// int32, coordinates float64; strings fixed-length UTF-8, null-padded — version 1's
+// variable-length strings are refused):
 //   /                 attributes format, format_version (int), generator, units, signature
 //   /bodies/names     B strings; body ids index this list
 //   /bodies/spacing   B lattice spacings Δp (0 for FE bodies), attribute units = "m"
@@ -51,11 +52,12 @@ namespace sphfem {
 // that do not match). An empty Model::interface_p is written as 0 for every particle.
 void write_model_h5(const Model& m, const std::filesystem::path& file);
 
-// Reads and checks a model file (format, version, shapes, index ranges; particles: positive
-// finite mass, density and h, finite positions, bodies with a positive spacing; particle faces:
-// particle indices in range, one positive finite area each, a unit normal; coupling: ascending
-// node indices in range with one positive finite h and spacing each, interface 0 or 1 per
-// particle); any problem is a sphfem::Error naming the file and what is wrong or missing.
+// Reads and checks a model file (its seal before anything else, format, version, shapes, index
+// ranges; particles: positive finite mass, density and h, finite positions, bodies with a positive
+// spacing; particle faces: particle indices in range, one positive finite area each, a unit normal;
+// coupling: ascending node indices in range with one positive finite h and spacing each, interface
+// 0 or 1 per particle); any problem is a sphfem::Error naming the file and what is wrong or
+// missing.
 Model read_model_h5(const std::filesystem::path& file);
 
 } // namespace sphfem

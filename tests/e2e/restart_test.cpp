@@ -6,6 +6,7 @@
 // restart must reproduce it bit for bit, not approximately.
 #include "post/post.hpp"
 #include "solver/io/checkpoint.hpp"
+#include "solver/io/sealed_h5.hpp"
 #include "tests/support/command.hpp"
 
 #include <H5Cpp.h>
@@ -182,6 +183,7 @@ TEST_F(Restart, OtherPhysicsIsRefusedAndNothingIsTouched) {
   const fs::path damaged = dir / "damaged.h5";
   fs::copy_file(out / "checkpoint.h5", damaged);
   H5::H5File(damaged.string(), H5F_ACC_RDWR).unlink("particles/x_p");
+  sphfem::seal_h5_file(damaged);
   const std::string history = slurp(out / "history.csv");
   EXPECT_EQ(
       run("solve " + case_file + " -o " + out.string() + keys + " --restart " + damaged.string(),
@@ -206,6 +208,7 @@ TEST_F(Restart, OtherPhysicsIsRefusedAndNothingIsTouched) {
     field.createAttribute("element_bytes", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
         .write(H5::PredType::NATIVE_INT, &one);
   }
+  sphfem::seal_h5_file(other_model);
   EXPECT_EQ(run("solve " + case_file + " -o " + out.string() + keys + " --restart " +
                     other_model.string(),
                 dir),

@@ -1,13 +1,14 @@
 // checkpoint.h5 (solver/io/checkpoint.hpp): what persist() stores comes back exactly — numbers,
 // vectors and matrices, structs with padding, text, empty arrays — and every kind of bad file
-// (absent, not HDF5, truncated, another format or version, a field missing or of another
-// layout, a history or frame list of another run or damaged) is a one-line Error naming the
-// file, never a crash. The model fingerprint changes with
+// (absent, not HDF5, unsealed, truncated, changed, another format or version, a field missing
+// or of another layout, a history or frame list of another run or damaged) is a one-line Error
+// naming the file, never a crash. The model fingerprint changes with
 // the model's content and not with anything else.
 #include "solver/core/error.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/frame_writer.hpp"
 #include "solver/io/history_writer.hpp"
+#include "solver/io/sealed_h5.hpp"
 #include "solver/material/material_point.hpp"
 
 #include <gtest/gtest.h>
@@ -164,8 +165,19 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   }
+  const fs::path changed = f.dir / "changed.h5"; // one byte of the content changed
+  fs::copy_file(good, changed);
+  {
+    std::fstream io(changed, std::ios::in | std::ios::out | std::ios::binary);
+    io.seekp(static_cast<std::streamoff>(fs::file_size(good) / 2));
+    io.put('\x5a');
+  }
+  const fs::path unsealed = f.dir / "unsealed.h5"; // another program's HDF5 file
+  H5::H5File(unsealed.string(), H5F_ACC_TRUNC).close();
+  // Below, files damaged through HDF5 and sealed again: the reader's checks behind the seal.
   const fs::path other = f.dir / "other.h5"; // an HDF5 file of another kind
-  H5::H5File(other.string(), H5F_ACC_TRUNC).close();
+  H5::H5File(other.string(), H5F_ACC_TRUNC, sealed_file_properties()).close();
+  seal_h5_file(other);
   const fs::path number_format = f.dir / "number_format.h5"; // format an integer, not a string
   fs::copy_file(good, number_format);
   {
@@ -175,6 +187,7 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
     h5.createAttribute("format", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
         .write(H5::PredType::NATIVE_INT, &one);
   }
+  seal_h5_file(number_format);
   const fs::path other_format = f.dir / "other_format.h5"; // a string, but another format's
   fs::copy_file(good, other_format);
   {
@@ -184,13 +197,15 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
     const H5::StrType type(H5::PredType::C_S1, name.size());
     h5.createAttribute("format", type, H5::DataSpace(H5S_SCALAR)).write(type, name);
   }
+  seal_h5_file(other_format);
   const fs::path version = f.dir / "version.h5";
   fs::copy_file(good, version);
   {
     H5::H5File h5(version.string(), H5F_ACC_RDWR);
-    const int two = 2;
-    h5.openAttribute("version").write(H5::PredType::NATIVE_INT, &two);
+    const int three = 3;
+    h5.openAttribute("version").write(H5::PredType::NATIVE_INT, &three);
   }
+  seal_h5_file(version);
 
   EXPECT_NE(error_of(f.dir / "absent.h5").find("absent.h5\": no such file"), std::string::npos);
   EXPECT_NE(error_of(f.dir).find("not a regular file"), std::string::npos);
@@ -206,8 +221,18 @@ TEST(Checkpoint, BadFilesAreOneLineErrors) {
       error_of(other_format).find("other_format.h5\": not a checkpoint (format \"sphfem-model\")"),
       std::string::npos)
       << error_of(other_format);
-  EXPECT_NE(error_of(version).find("checkpoint version 2, this sphfem reads 1"), std::string::npos);
-  EXPECT_THROW(read_checkpoint_meta(truncated), Error);
+  EXPECT_NE(error_of(version).find("checkpoint version 3, this sphfem reads 2"), std::string::npos);
+  EXPECT_NE(error_of(truncated).find(
+                "truncated.h5\": truncated: " + std::to_string(fs::file_size(truncated)) +
+                " of the " + std::to_string(fs::file_size(good)) + " bytes sphfem wrote"),
+            std::string::npos)
+      << error_of(truncated);
+  EXPECT_NE(error_of(changed).find("changed.h5\": its content does not match its seal"),
+            std::string::npos)
+      << error_of(changed);
+  EXPECT_NE(error_of(unsealed).find("unsealed.h5\": an HDF5 file without sphfem's seal"),
+            std::string::npos)
+      << error_of(unsealed);
 
   // A field that is absent, or stored with another element size (another build's layout).
   try {
@@ -259,6 +284,7 @@ TEST(Checkpoint, InconsistentContentIsAnError) {
     const std::array<hsize_t, 2> one{1, 8};
     h5.createDataSet("particles/bare", H5::PredType::NATIVE_UCHAR, H5::DataSpace(2, one.data()));
   }
+  seal_h5_file(file);
   const auto read_doubles = [&](const std::string& name) {
     return error([&](StateArchive& a) {
       std::vector<double> v;
@@ -288,6 +314,7 @@ TEST(Checkpoint, InconsistentContentIsAnError) {
     keys.createAttribute("element_bytes", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
         .write(H5::PredType::NATIVE_INT, &one_byte);
   }
+  seal_h5_file(file);
   try {
     read_checkpoint_meta(file);
     ADD_FAILURE() << "broken case keys were read";

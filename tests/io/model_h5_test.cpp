@@ -4,6 +4,7 @@
 // model_particles.vtu read back with VTK.
 #include "solver/io/model_h5.hpp"
 #include "solver/io/model_vtu.hpp"
+#include "solver/io/sealed_h5.hpp"
 
 #include "solver/core/error.hpp"
 
@@ -122,12 +123,16 @@ protected:
 
   fs::path path(const std::string& name) const { return dir_ / name; }
 
-  // Writes a small model to `name` and lets `edit` damage it through HDF5.
+  // Writes a small model to `name`, lets `edit` damage it through HDF5 and seals it again, so
+  // that what is tested is the reader's own check behind the seal.
   fs::path damaged(const std::string& name, const std::function<void(H5::H5File&)>& edit) const {
     const fs::path file = path(name);
     write_model_h5(grid_model(3, 2, 2), file);
-    H5::H5File h5(file.string(), H5F_ACC_RDWR);
-    edit(h5);
+    {
+      H5::H5File h5(file.string(), H5F_ACC_RDWR);
+      edit(h5);
+    }
+    seal_h5_file(file);
     return file;
   }
 
@@ -246,6 +251,7 @@ TEST_F(ModelFiles, FileWithoutParticleFacesReadsAsNone) {
   const fs::path file = path("old.h5");
   write_model_h5(particle_model(5), file);
   H5::H5File(file.string(), H5F_ACC_RDWR).unlink("particle_faces");
+  seal_h5_file(file);
   const Model m = read_model_h5(file);
   EXPECT_EQ(m.particle_count(), 5);
   EXPECT_TRUE(m.particle_faces.empty());
@@ -376,6 +382,7 @@ TEST_F(ModelFiles, FileWithoutCouplingReadsAsUncoupled) {
     h5.unlink("coupling");
     h5.unlink("particles/interface");
   }
+  seal_h5_file(file);
   const Model m = read_model_h5(file);
   EXPECT_EQ(m.particle_count(), 5);
   EXPECT_TRUE(m.background_nodes.empty());
@@ -443,7 +450,7 @@ TEST_F(ModelFiles, IsSelfDescribing) {
   EXPECT_EQ(text(h5, "generator").rfind("sphfem ", 0), 0u);
   int version = 0;
   h5.openAttribute("format_version").read(H5::PredType::NATIVE_INT, &version);
-  EXPECT_EQ(version, 2);
+  EXPECT_EQ(version, 3);
   EXPECT_EQ(text(h5.openDataSet("nodes/x"), "units"), "m");
   EXPECT_EQ(text(h5.openDataSet("elements/hex"), "node_order"), "gmsh hexahedron");
   EXPECT_TRUE(h5.nameExists("node_sets/bar/zmin"));
@@ -461,13 +468,13 @@ TEST_F(ModelFiles, UnwritablePathIsAnError) {
 }
 
 TEST_F(ModelFiles, WrongFormatVersionIsRejected) {
-  const fs::path file = damaged("v3.h5", [](H5::H5File& h5) {
+  const fs::path file = damaged("v4.h5", [](H5::H5File& h5) {
     h5.removeAttr("format_version");
-    const int three = 3;
+    const int four = 4;
     h5.createAttribute("format_version", H5::PredType::STD_I32LE, H5::DataSpace(H5S_SCALAR))
-        .write(H5::PredType::NATIVE_INT, &three);
+        .write(H5::PredType::NATIVE_INT, &four);
   });
-  expect_read_error(file, "format_version 3 is not supported");
+  expect_read_error(file, "format_version 4 is not supported");
 }
 
 // Format 1 stored variable-length strings, through which a corrupt file could make HDF5
@@ -531,9 +538,13 @@ TEST_F(ModelFiles, MissingGroupIsNamed) {
                     "missing group 'elements'");
 }
 
+// Another program's HDF5 file has no seal; sealed, it still is no model.
 TEST_F(ModelFiles, ForeignHdf5FileIsRejected) {
   const fs::path file = path("other.h5");
   H5::H5File(file.string(), H5F_ACC_TRUNC).createGroup("data");
+  expect_read_error(file, "other.h5\": an HDF5 file without sphfem's seal");
+  H5::H5File(file.string(), H5F_ACC_TRUNC, sealed_file_properties()).createGroup("data");
+  seal_h5_file(file);
   expect_read_error(file, "missing attribute 'format'");
 }
 
@@ -544,7 +555,29 @@ TEST_F(ModelFiles, TruncatedFileIsAnError) {
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::ofstream(cut, std::ios::binary)
       .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
-  expect_read_error(cut, "truncated file");
+  expect_read_error(cut, "cut.h5\": truncated: " + std::to_string(bytes.size() / 2) + " of the " +
+                             std::to_string(bytes.size()) + " bytes sphfem wrote");
+}
+
+// One byte changed anywhere in what HDF5 would read is caught before HDF5 reads it.
+TEST_F(ModelFiles, ChangedByteIsAnError) {
+  const fs::path file = path("flipped.h5");
+  write_model_h5(grid_model(3, 2, 2), file);
+  const auto size = static_cast<std::streamoff>(fs::file_size(file));
+  for (const std::streamoff at : {std::streamoff{512}, size / 2, size - 1}) {
+    std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
+    io.seekg(at);
+    const char byte = static_cast<char>(io.get() ^ 0x10);
+    io.seekp(at);
+    io.put(byte);
+    io.close();
+    expect_read_error(file, "flipped.h5\": its content does not match its seal: corrupt or changed "
+                            "after sphfem wrote it");
+    io.open(file, std::ios::in | std::ios::out | std::ios::binary);
+    io.seekp(at);
+    io.put(static_cast<char>(byte ^ 0x10));
+  }
+  EXPECT_EQ(read_model_h5(file).node_count(), 4 * 3 * 3);
 }
 
 TEST_F(ModelFiles, MissingDatasetIsNamed) {
@@ -601,8 +634,11 @@ protected:
   fs::path damaged_particles(const std::function<void(H5::H5File&)>& edit) const {
     const fs::path file = path("particles.h5");
     write_model_h5(particle_model(5), file);
-    H5::H5File h5(file.string(), H5F_ACC_RDWR);
-    edit(h5);
+    {
+      H5::H5File h5(file.string(), H5F_ACC_RDWR);
+      edit(h5);
+    }
+    seal_h5_file(file);
     return file;
   }
 
