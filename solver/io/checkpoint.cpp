@@ -10,9 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
-#include <cstdint>
 #include <cstdio>
-#include <span>
 
 namespace sphfem {
 

@@ -3,13 +3,9 @@
 // readers of model.h5 and checkpoint.h5.
 #pragma once
 
-#include "solver/core/error.hpp"
-
 #include <H5Cpp.h>
 
-#include <filesystem>
 #include <string>
-#include <system_error>
 
 namespace sphfem {
 
