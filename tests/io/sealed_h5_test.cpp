@@ -25,6 +25,7 @@ protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("sphfem_seal_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
+    file_ = dir_ / "sealed.h5";
     H5::H5File h5(file_.string(), H5F_ACC_TRUNC, sphfem::sealed_file_properties());
     const hsize_t n = 1000;
     std::string bytes(n, 'x');
@@ -54,7 +55,7 @@ protected:
   }
 
   fs::path dir_;
-  fs::path file_ = dir_ / "sealed.h5";
+  fs::path file_;
 };
 
 } // namespace
