@@ -3,9 +3,9 @@
 #include "solver/core/error.hpp"
 #include "solver/io/fnv1a.hpp"
 
-#include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
