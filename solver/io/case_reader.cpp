@@ -566,7 +566,8 @@ RateForm Reader::rate_form(const Located& at) const {
 }
 
 DuctileDamage Reader::damage(const Located& at, RateForm strength_form) const {
-  check_map(at, {"D1", "D2", "D3", "D4", "D5", "rate_form", "critical_damage", "threshold_strain"});
+  check_map(at, {"D1", "D2", "D3", "D4", "D5", "rate_form", "critical_damage", "threshold_strain",
+                 "regularisation_length"});
   DuctileDamage d;
   d.D1 = number(required(at, "D1", "fracture strain constant"));
   d.D2 = number(required(at, "D2", "fracture strain constant"));
@@ -579,6 +580,8 @@ DuctileDamage Reader::damage(const Located& at, RateForm strength_form) const {
   d.critical_damage = number_or(at, "critical_damage", d.critical_damage, "in (0, 1]",
                                 [](double v) { return v > 0 && v <= 1; });
   d.threshold_strain = number_or(at, "threshold_strain", d.threshold_strain, ">= 0", non_negative);
+  d.regularisation_length =
+      number_or(at, "regularisation_length", d.regularisation_length, "> 0 (m)", positive);
   return d;
 }
 

@@ -2,6 +2,11 @@
 //   Ḋ = 0 for p < p_d,  Ḋ = D_C ṗ / (p_f − p_d) for p ≥ p_d,
 //   p_f = [D1 + D2 exp(D3 σ*)] [rate term with D4 of ṗ/ṗ0] [1 + D5 T*],  σ* = σ_m/σ_eq.
 // The point fails when D reaches D_C.
+// Regularisation (an option beyond METHOD.md): strain localises into a band as wide as the
+// discretisation resolves — 2h for an SPH particle, one element for a hexahedron — so the work
+// to cut a unit of band area, ∝ p_f × width, grows with the particle spacing. With a length L,
+// p_f is multiplied by L / width: the work is that of a band L wide at every resolution
+// (p_d is not scaled). Without L (0), and for a point without a size, p_f is as calibrated.
 #pragma once
 
 #include "solver/material/rate_form.hpp"
@@ -13,12 +18,19 @@ struct DuctileDamage {
   RateForm rate_form = RateForm::Power; // form of the D4 term
   double critical_damage = 1.0;         // D_C
   double threshold_strain = 0.0;        // p_d
+  double regularisation_length = 0.0;   // L, m; 0: p_f is not scaled
 
   // Fracture strain p_f at triaxiality σ*, dimensionless plastic strain rate ṗ* and
   // homologous temperature T*.
   double fracture_strain(double triaxiality, double rate_ratio, double homologous_T) const {
     return (D1 + D2 * std::exp(D3 * triaxiality)) * rate_term(rate_form, D4, rate_ratio) *
            (1.0 + D5 * homologous_T);
+  }
+
+  // The factor L / width on p_f for a point whose band is `width` (m) wide; 1 without L or
+  // without a width.
+  double size_factor(double width) const {
+    return regularisation_length > 0 && width > 0 ? regularisation_length / width : 1.0;
   }
 };
 

@@ -34,7 +34,7 @@ PointState advance(const Material& m, const PointState& start, const Mat3& D, co
   PointState s = start;
   s.rho = start.rho * std::exp(-D.trace() * dt);
   s.p = m.pressure(s.rho, start.E);
-  s.dp = update_point(m, D, W, dt, s.rho, s.p, s.S, s.point);
+  s.dp = update_point(m, D, W, dt, s.rho, s.p, s.S, s.point, 0.0);
   const double power = 0.5 * (cauchy(start) + cauchy(s)).cwiseProduct(D).sum();
   s.E = start.E + power * dt * m.elastic.density / s.rho;
   return s;

@@ -75,7 +75,7 @@ double equivalent_stress(const Mat3& S) {
 }
 
 double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, double rho,
-                    double& pressure, Mat3& S, MaterialPoint& point) {
+                    double& pressure, Mat3& S, MaterialPoint& point, double band_width) {
   if (point.failed) {
     S.setZero();
     pressure = std::max(pressure, 0.0);
@@ -106,7 +106,8 @@ double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, 
       // A melted point (T* = 1) has no flow stress left: count it as at zero triaxiality.
       const double triaxiality = flow > 0 ? -pressure / flow : 0.0;
       const double p_f = d.fracture_strain(triaxiality, dp / (dt * jc.reference_strain_rate),
-                                           jc.homologous_temperature(T_start));
+                                           jc.homologous_temperature(T_start)) *
+                         d.size_factor(band_width);
       const double span = p_f - d.threshold_strain;
       point.damage =
           span > 0 ? point.damage + d.critical_damage * active / span : d.critical_damage;

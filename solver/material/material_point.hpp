@@ -6,7 +6,9 @@
 //      by Newton's method kept inside the bracket [0, (σ_trial − σ_Y(r, 0, T)(1 − D))/3G]
 //      by bisection, to |g| ≤ 1e-10 σ_trial; then S ← S (σ_trial − 3G Δp)/σ_trial;
 //   3. adiabatic heating ΔT = χ σ_eq Δp/(ρ C_p);
-//   4. damage ΔD = D_C Δp/(p_f − p_d) once p ≥ p_d, with σ* = −p/σ_eq and ṗ* = Δp/(Δt ṗ0);
+//   4. damage ΔD = D_C Δp/(p_f − p_d) once p ≥ p_d, with σ* = −p/σ_eq and ṗ* = Δp/(Δt ṗ0),
+//      p_f times the regularisation's L / width where the material states L
+//      (ductile_damage.hpp);
 //   5. failure at D ≥ D_C: S = 0 from then on and the point carries no tension (p ≥ 0).
 // Temperature and damage enter the yield stress as they were at the start of the step.
 #pragma once
@@ -31,9 +33,11 @@ struct MaterialPoint {
 // Advances the deviatoric stress S (Pa) and the point's history over dt (s) with strain rate D
 // and spin W (1/s) at the end-of-step density ρ (kg/m³). `pressure` (Pa, compression
 // positive) comes in from the EOS at the new density and goes out as the point carries it
-// (tension cut off once failed). Returns the plastic strain increment Δp.
+// (tension cut off once failed). `band_width` (m) is the width a shear band takes in the
+// discretisation the point belongs to (2h for a particle, the size of a hexahedron; 0 for a
+// point without a size). Returns the plastic strain increment Δp.
 double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, double rho,
-                    double& pressure, Mat3& S, MaterialPoint& point);
+                    double& pressure, Mat3& S, MaterialPoint& point, double band_width);
 
 // The von Mises equivalent stress √(3/2 S:S) of a deviator S, Pa.
 double equivalent_stress(const Mat3& S);

@@ -200,7 +200,7 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
     const Mat3 sigma_old = total_stress(p, i);
     double pressure = mat.pressure(rho, energy_density(p, mat, i));
     if (mat.inelastic()) {
-      update_point(mat, D, W, dt, rho, pressure, p.S_p[i], p.point_p[i]);
+      update_point(mat, D, W, dt, rho, pressure, p.S_p[i], p.point_p[i], 2.0 * p.h0_p[i]);
       if (p.point_p[i].failed) {
         p.kill_p[i] = pressure > 0 ? Kill::Compressed : Kill::Tension;
         excluded += p.kill_p[i] == Kill::Tension;

@@ -53,7 +53,7 @@ TEST_P(ReturnMapping, LandsOnTheYieldSurface) {
     double pressure = -300e6;
     const Mat3 Ds = D * rate_scale;
     const double dts = dt / rate_scale;
-    const double dp = update_point(m, Ds, Mat3::Zero(), dts, 7850.0, pressure, S, point);
+    const double dp = update_point(m, Ds, Mat3::Zero(), dts, 7850.0, pressure, S, point, 0.0);
     ASSERT_GT(dp, 0.0);
     const double intact = 1.0 - 0.1;
     const double expected =
@@ -78,7 +78,7 @@ TEST_P(ReturnMapping, HeatsAndDamagesAsTheLawsSay) {
   double pressure = -300e6;
   const double dt = 1e-4, rho = 7800.0;
   const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
-  const double dp = update_point(m, D, Mat3::Zero(), dt, rho, pressure, S, point);
+  const double dp = update_point(m, D, Mat3::Zero(), dt, rho, pressure, S, point, 0.0);
   const double sigma = equivalent(S);
   const double rise =
       spec.heating->taylor_quinney * sigma * dp / (rho * spec.heating->specific_heat);
@@ -96,6 +96,60 @@ INSTANTIATE_TEST_SUITE_P(BothRateForms, ReturnMapping,
                          testing::Values("weldox460e", "weldox460e_paper"),
                          [](const auto& info) { return info.param; });
 
+// The regularisation multiplies p_f by L / width (ductile_damage.hpp): one step's damage
+// increment D_C Δp / (p_f L / w) (p_d = 0) is w / L times the calibrated one; without L, or for
+// a point without a size (width 0), the step is the calibrated one.
+TEST(Regularisation, ScalesTheDamageIncrementByWidthOverLength) {
+  const double L = 1.5e-3;
+  const auto plain = weldox_specs();
+  const auto regularised =
+      weldox_specs({"materials.weldox460e.damage.regularisation_length=" + std::to_string(L)});
+  const Material calibrated = Material::from(entry(plain, "weldox460e"));
+  const Material with_L = Material::from(entry(regularised, "weldox460e"));
+  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
+  const auto damage_step = [&](const Material& m, double width) {
+    MaterialPoint point = worn_point();
+    Mat3 S = Mat3::Zero();
+    double pressure = -300e6;
+    update_point(m, D, Mat3::Zero(), 1e-4, 7800.0, pressure, S, point, width);
+    return point.damage - 0.1;
+  };
+  const double calibrated_step = damage_step(calibrated, 0.0);
+  ASSERT_GT(calibrated_step, 0.0);
+  EXPECT_NEAR(damage_step(calibrated, 2.4e-3), calibrated_step, 1e-15);
+  EXPECT_NEAR(damage_step(with_L, 0.0), calibrated_step, 1e-15);
+  for (const double width : {0.75e-3, 1.5e-3, 2.4e-3, 8e-3})
+    EXPECT_NEAR(damage_step(with_L, width), calibrated_step * width / L, 1e-12 * width / L)
+        << "width " << width;
+}
+
+// Sheared at a constant rate with no pressure (σ* = 0), a point fails once p reaches
+// p_f = (D1 + D2) (1 + ṗ*)^D4, times L / width with the regularisation: half the strain, so
+// half the work per unit volume, in a band twice as wide.
+TEST(Regularisation, APointInShearFailsAtTheScaledFractureStrain) {
+  const double L = 1.2e-3;
+  const auto specs =
+      weldox_specs({"materials.weldox460e.damage.regularisation_length=" + std::to_string(L)});
+  const MaterialSpec& spec = entry(specs, "weldox460e");
+  const Material m = Material::from(spec);
+  const double rate = 1e4, dt = 2e-8; // γ̇ = 2 × 10⁴ 1/s: ṗ ≈ 1.15 × 10⁴, Δp ≈ 2.3e-4 a step
+  Mat3 D = Mat3::Zero();
+  D(0, 1) = D(1, 0) = rate;
+  for (const double width : {1.2e-3, 2.4e-3, 3.6e-3}) {
+    MaterialPoint point = MaterialPoint::initial(m);
+    point.temperature = spec.johnson_cook->reference_temperature;
+    Mat3 S = Mat3::Zero();
+    double dp = 0;
+    for (int step = 0; step < 100000 && !point.failed; ++step) {
+      double pressure = 0;
+      dp = update_point(m, D, Mat3::Zero(), dt, 7850.0, pressure, S, point, width);
+    }
+    ASSERT_TRUE(point.failed) << "width " << width;
+    const double p_f = sphfem_test::fracture_strain(spec, 0.0, dp / dt) * L / width;
+    EXPECT_NEAR(point.plastic_strain, p_f, dp) << "width " << width;
+  }
+}
+
 // Below yield the step is elastic: Δp = 0 and S = S0 + 2G D′ Δt exactly.
 TEST(MaterialPoint, ElasticStepBelowYield) {
   const auto specs = weldox_specs();
@@ -111,7 +165,7 @@ TEST(MaterialPoint, ElasticStepBelowYield) {
   D(2, 2) = 0.3; // a volumetric part too: only its deviator acts on S
   const double dt = 1e-5, G = sphfem_test::shear_modulus(spec);
   double pressure = 0;
-  const double dp = update_point(m, D, Mat3::Zero(), dt, 7850.0, pressure, S, point);
+  const double dp = update_point(m, D, Mat3::Zero(), dt, 7850.0, pressure, S, point, 0.0);
   EXPECT_NEAR(dp, 0.0, 0.0); // exactly: the return is not entered
   const Mat3 deviator = D - (0.3 / 3.0) * Mat3::Identity();
   EXPECT_NEAR((S - (S0 + 2.0 * G * dt * deviator)).norm(), 0.0, 1e-6); // Pa
@@ -129,11 +183,11 @@ TEST(MaterialPoint, FailedPointIsStressFreeInTension) {
   Mat3 S = Mat3::Constant(1e8);
   double tension = -1e8, compression = 2e8;
   // Exact zeros: the failed branch sets them.
-  EXPECT_NEAR(update_point(m, Mat3::Identity(), Mat3::Zero(), 1e-6, 7850, tension, S, point), 0.0,
-              0.0);
+  EXPECT_NEAR(update_point(m, Mat3::Identity(), Mat3::Zero(), 1e-6, 7850, tension, S, point, 0.0),
+              0.0, 0.0);
   EXPECT_NEAR(S.norm(), 0.0, 0.0);
   EXPECT_NEAR(tension, 0.0, 0.0);
-  update_point(m, Mat3::Identity(), Mat3::Zero(), 1e-6, 7850, compression, S, point);
+  update_point(m, Mat3::Identity(), Mat3::Zero(), 1e-6, 7850, compression, S, point, 0.0);
   EXPECT_NEAR(compression, 2e8, 0.0); // crushed material still carries pressure
 }
 

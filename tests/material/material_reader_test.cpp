@@ -80,7 +80,8 @@ TEST(MaterialReader, ReadsEveryBlock) {
   EXPECT_NEAR(s.damage->D5, 0.0, 0.0);             // default
   EXPECT_NEAR(s.damage->threshold_strain, 0.0, 0.0);
   EXPECT_NEAR(s.damage->critical_damage, 0.3, 1e-15);
-  EXPECT_NEAR(s.heating->taylor_quinney, 0.9, 1e-15); // default
+  EXPECT_NEAR(s.damage->regularisation_length, 0.0, 0.0); // default: p_f as calibrated
+  EXPECT_NEAR(s.heating->taylor_quinney, 0.9, 1e-15);     // default
   EXPECT_NEAR(s.heating->specific_heat, 452, 1e-12);
   EXPECT_NEAR(s.eos->gamma0, 2.17, 1e-15);
   EXPECT_TRUE(s.erosion);
@@ -143,6 +144,10 @@ TEST(MaterialReader, RejectsBadValues) {
                       "lib.yaml:10: materials.plate.johnson_cook.n: ", "must be > 0"));
   EXPECT_TRUE(reports(error_of(edited(kFull, "critical_damage: 0.3", "critical_damage: 1.5")),
                       "lib.yaml:17: materials.plate.damage.critical_damage: ", "in (0, 1]"));
+  EXPECT_TRUE(
+      reports(error_of(edited(kFull, "critical_damage: 0.3",
+                              "critical_damage: 0.3, regularisation_length: -1e-3")),
+              "lib.yaml:17: materials.plate.damage.regularisation_length: ", "must be > 0 (m)"));
   EXPECT_TRUE(reports(error_of(edited(kFull, "model: mie_gruneisen", "model: ideal_gas")),
                       "lib.yaml:19: materials.plate.eos.model: ", "mie_gruneisen"));
   EXPECT_TRUE(reports(error_of(edited(kFull, "erosion: true", "erosion: 1.5")),
