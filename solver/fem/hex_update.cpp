@@ -86,7 +86,8 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
         double pressure =
             mat.eos ? mat.pressure(rho, energy) : e.p_e[k] - mat.elastic.bulk * trace_D * dt;
         if (mat.inelastic())
-          update_point(mat, D, W, dt, rho, pressure, e.S_e[k], e.point_e[k], std::cbrt(e.V0_e[k]));
+          update_point(mat, D, W, dt, rho, pressure, e.S_e[k], e.point_e[k],
+                       mat.regularised() ? std::cbrt(e.V0_e[k]) : 0.0);
         else
           elastic_deviator_update(mat.elastic, D, W, dt, e.S_e[k]);
         e.p_e[k] = pressure;

@@ -33,6 +33,8 @@ struct Material {
 
   // Whether points of this material carry a plastic/damage/temperature history.
   bool inelastic() const { return strength.has_value(); }
+  // Whether its fracture strain depends on a point's band width (ductile_damage.hpp).
+  bool regularised() const { return damage && damage->regularisation_length > 0; }
   // The temperature points start at, K.
   double initial_temperature() const { return strength ? strength->reference_temperature : 293.0; }
   // Pressure (Pa, compression positive) at density ρ; `energy` is the internal energy per
