@@ -191,7 +191,9 @@ void print_plug(const post::PlugResult& r) {
     std::printf("plug:  none (no other fragment moves along the impact axis)\n");
   }
   if (r.passed_through)
-    std::printf("the projectile is wholly beyond the target's rear face: perforated\n");
+    std::printf(
+        "the projectile's nose is beyond the target's rear face, nothing of the plate ahead of it: "
+        "perforated\n");
   std::printf("files: %s, %s, %s\n", r.json.string().c_str(), r.csv.string().c_str(),
               r.png.string().c_str());
 }

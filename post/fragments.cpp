@@ -94,6 +94,36 @@ bool alive(const std::vector<char>& failed, std::size_t i) {
 
 } // namespace
 
+bool path_open(const std::vector<Vec3>& projectile, const FragmentSource& target,
+               const FragmentSet& set, double rear, const Vec3& axis) {
+  if (projectile.empty())
+    return false;
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& x : projectile)
+    centre += x / double(projectile.size());
+  const auto lateral = [&](const Vec3& x) {
+    const Vec3 d = x - centre;
+    return (d - d.dot(axis) * axis).norm();
+  };
+  double nose = -std::numeric_limits<double>::infinity(), radius = 0;
+  for (const Vec3& x : projectile) {
+    nose = std::max(nose, x.dot(axis));
+    radius = std::max(radius, lateral(x));
+  }
+  if (nose <= rear)
+    return false;
+  const auto ahead = [&](const Vec3& x) { return x.dot(axis) > nose && lateral(x) < radius / 2; };
+  for (std::size_t i = 0; i < target.x_p.size(); ++i)
+    if (set.fragment_p[i] == 0 && ahead(target.x_p[i]))
+      return false;
+  for (std::size_t k = 0; k < target.hex_e.size(); ++k)
+    if (set.fragment_e[k] == 0)
+      for (Index n : target.hex_e[k])
+        if (ahead(target.x_n[n]))
+          return false;
+  return true;
+}
+
 Vec3 lateral_direction(const Vec3& axis) {
   Eigen::Index k = 0;
   axis.cwiseAbs().minCoeff(&k);

@@ -56,6 +56,16 @@ FragmentSet find_fragments(const FragmentSource& source, double reach, double sp
 // none.
 int find_plug(const std::vector<Fragment>& fragments, const Vec3& axis, long long min_pieces = 27);
 
+// Whether a projectile (its particles and element nodes) has passed through a target: its nose
+// lies beyond `rear` (the target's rear face, along `axis`), and no part of the target's main
+// fragment (fragments[0]) lies ahead of the nose within half the projectile's radius of its axis
+// (the line along `axis` through the mean of its points). A plug still hanging on the plate
+// belongs to the main fragment and lies ahead; a plug that has left, or debris, does not — so a
+// projectile through a target that shattered without a plug has passed through while its tail is
+// still in the hole.
+bool path_open(const std::vector<Vec3>& projectile, const FragmentSource& target,
+               const FragmentSet& set, double rear, const Vec3& axis);
+
 // A unit vector perpendicular to `axis`: the global axis least aligned with it, made
 // perpendicular (x for an axis along z).
 Vec3 lateral_direction(const Vec3& axis);

@@ -174,10 +174,9 @@ std::pair<double, double> extent_along(const Frame& f, int body, const Vec3& axi
   return {lo, hi};
 }
 
-// Whether the leading other body — the one with the largest momentum along the axis in the
-// first frame — lies wholly beyond the target's rear face as it was then: the projectile is
-// through, plug or not (a target shattered into debris has none).
-bool passed_through(const Frame& first, const Frame& now, int target, const Vec3& axis) {
+// The other body with the largest momentum along the axis in the first frame (the projectile),
+// -1 if none moves along it.
+int leading_body(const Frame& first, int target, const Vec3& axis) {
   int leader = -1;
   double largest = 0;
   for (const auto& [b, p] : momentum_by_body(first))
@@ -185,11 +184,30 @@ bool passed_through(const Frame& first, const Frame& now, int target, const Vec3
       largest = p.dot(axis);
       leader = b;
     }
-  if (leader < 0)
-    return false;
+  return leader;
+}
+
+// A body's particles and element nodes in a frame.
+std::vector<Vec3> points_of(const Frame& f, int body) {
+  std::vector<Vec3> points;
+  for (std::size_t i = 0; i < f.x_p.size(); ++i)
+    if (f.body_p[i] == body)
+      points.push_back(f.x_p[i]);
+  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
+    if (f.body_e[k] == body)
+      for (Index n : f.hex_e[k])
+        points.push_back(f.x_n[n]);
+  return points;
+}
+
+// Whether the leading other body has passed through the target (path_open, fragments.hpp), the
+// rear face being the target's in the first frame.
+bool passed_through(const Frame& first, const Frame& now, int target, const Vec3& axis,
+                    const FragmentSource& source, const FragmentSet& set) {
+  const int leader = leading_body(first, target, axis);
   const double rear = extent_along(first, target, axis).second;
-  const double front = extent_along(now, leader, axis).first;
-  return std::isfinite(rear) && front > rear;
+  return leader >= 0 && std::isfinite(rear) &&
+         path_open(points_of(now, leader), source, set, rear, axis);
 }
 
 int target_body(const Model& model, const std::string& name, const fs::path& file) {
@@ -357,7 +375,7 @@ PlugResult write_plug(const PlugOptions& o) {
   r.fragments = set.fragments;
   r.main = r.fragments.empty() ? -1 : 0;
   r.plug = find_plug(r.fragments, r.impact_axis, o.min_pieces);
-  r.passed_through = passed_through(first, frame, body, r.impact_axis);
+  r.passed_through = passed_through(first, frame, body, r.impact_axis, source, set);
   r.debris_mass = set.debris_mass;
 
   const fs::path dir = o.out_dir.empty() ? o.run / "post" : o.out_dir;

@@ -5,9 +5,11 @@
 // Impact axis: the direction of the other bodies' total momentum in the first frame (element
 // momentum = ρ V × mean node velocity), else +z if they have none; plug.json says which.
 // Main = the most massive fragment; plug = the most massive other fragment moving along the
-// impact axis (velocity · axis > 0), if any. Passed through: the other body with the largest
-// momentum along the axis in the first frame lies wholly beyond the target's rear face of the
-// first frame (a projectile through a target that shattered without a plug).
+// impact axis (velocity · axis > 0), if any. Passed through: the nose of the other body with the
+// largest momentum along the axis in the first frame (the projectile) lies beyond the target's
+// rear face of the first frame, and no part of the main fragment lies ahead of it within half the
+// projectile's radius of its axis (a projectile through a target that shattered without a plug,
+// its tail perhaps still in the hole; a plug still hanging on the plate blocks the path).
 // Writes DIR/plug.json (SI units), DIR/fragments.csv (one row per fragment) and DIR/plug.png:
 // each fragment's outline, the convex hull of its points projected on a plane containing the
 // impact axis (particles as squares of side Δp), in mm, the plug highlighted.
@@ -37,7 +39,7 @@ struct PlugResult {
   Vec3 impact_axis = Vec3::UnitZ();
   std::vector<Fragment> fragments; // most massive first
   int main = -1, plug = -1;        // indices into fragments, -1: none
-  bool passed_through = false;     // the leading other body lies wholly beyond the target
+  bool passed_through = false;     // the projectile's path through the target is open
   double debris_mass = 0;          // kg: killed particles and eroded elements
   std::filesystem::path json, csv, png;
 };

@@ -236,9 +236,10 @@ fs::path velocity_chart(const History& h, const std::vector<std::string>& bodies
 }
 
 // The perforation results DESIGN.md puts under summary.json's "results": perforated (a plug
-// separated, or the projectile is wholly beyond the target's rear face), the residual velocities of
-// the projectile (the other body with the largest initial momentum along the impact axis) and of
-// the plug along that axis, 0 without perforation, and the plug's mass and size.
+// separated, or the projectile's nose is beyond the target's rear face with its path open), the
+// residual velocities of the projectile (the other body with the largest initial momentum along the
+// impact axis) and of the plug along that axis, 0 without perforation, and the plug's mass and
+// size.
 nlohmann::json perforation_results(const nlohmann::json& summary, const History& history,
                                    const PlugResult& r, const std::string& target) {
   const Vec3& axis = r.impact_axis;

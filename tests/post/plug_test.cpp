@@ -260,6 +260,55 @@ TEST(Fragments, ConvexHullAndDiameter) {
   EXPECT_EQ(hull_diameter({Point2(0, 0)}), 0.0);
 }
 
+// A plate of particles 10 × 10 × 4 mm (rear face z = −4 mm) with a 5 × 5 mm hole under a
+// 4 × 4 mm projectile (radius 2.8 mm about its axis): the path is open when the nose is beyond the
+// rear face and nothing of the main fragment lies ahead of it within 1.4 mm of the axis — a plug
+// hanging on the plate by a column of particles blocks it, the same plug cut loose does not.
+TEST(Fragments, APathIsOpenWhenTheNoseIsThroughAndNoMainFragmentIsAhead) {
+  const auto particle = [](FragmentSource& s, Vec3 x) {
+    s.x_p.push_back(x);
+    s.v_p.push_back(Vec3::Zero());
+    s.m_p.push_back(7.85e-6);
+    s.killed_p.push_back(0);
+  };
+  FragmentSource ring;
+  for (int k = 1; k <= 4; ++k)
+    for (int j = -5; j <= 5; ++j)
+      for (int i = -5; i <= 5; ++i)
+        if (std::abs(i) > 2 || std::abs(j) > 2)
+          particle(ring, dp * Vec3(i, j, -k));
+  const double rear = 4 * dp; // the largest x · (−z) of the plate
+  const auto projectile = [](double nose_z) {
+    std::vector<Vec3> points;
+    for (int k = 0; k <= 10; ++k)
+      for (int j = -2; j <= 2; ++j)
+        for (int i = -2; i <= 2; ++i)
+          points.push_back(dp * Vec3(i, j, nose_z / dp + k));
+    return points;
+  };
+  const auto open = [&](const FragmentSource& target, double nose_z) {
+    return path_open(projectile(nose_z), target, find_fragments(target, 1.5 * dp, dp, down), rear,
+                     down);
+  };
+  EXPECT_FALSE(open(ring, -3 * dp));  // the nose still in the hole
+  EXPECT_TRUE(open(ring, -4.5 * dp)); // through, the hole empty
+  EXPECT_FALSE(open(ring, 10 * dp));  // before impact
+  EXPECT_FALSE(path_open({}, ring, find_fragments(ring, 1.5 * dp, dp, down), rear, down));
+
+  FragmentSource loose = ring; // a 5 × 5 × 4 plug 1 mm ahead of the nose
+  for (int k = 0; k < 4; ++k)
+    for (int j = -2; j <= 2; ++j)
+      for (int i = -2; i <= 2; ++i)
+        particle(loose, dp * Vec3(i, j, -6 - k));
+  EXPECT_TRUE(open(loose, -5 * dp));
+  FragmentSource hanging = loose; // the plug joined to the ring by a column at x = 3 mm
+  for (int k = 5; k <= 6; ++k)
+    particle(hanging, dp * Vec3(3, 0, -k));
+  ASSERT_EQ(find_fragments(hanging, 1.5 * dp, dp, down).fragments.size(), 1u);
+  EXPECT_FALSE(open(hanging, -5 * dp));
+  EXPECT_TRUE(open(hanging, -10 * dp)); // the nose beyond the plug: nothing ahead
+}
+
 // ---- the command on a real run ----
 
 TEST(PostPlug, OnATinyPerforationRunAccountsForThePlateMass) {
