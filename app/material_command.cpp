@@ -59,7 +59,8 @@ std::string csv_text(const MaterialCommandOptions& o, const std::vector<DriverRo
       " --strain-rate " + number(o.strain_rate) + " --to " + number(o.to) +
       (o.temperature ? " --temperature " + number(*o.temperature) : "") +
       (o.no_heating ? " --no-heating" : "") + (o.no_damage ? " --no-damage" : "") +
-      " --increments " + std::to_string(o.increments) + "\n" +
+      (o.band_width ? " --band-width " + number(*o.band_width) : "") + " --increments " +
+      std::to_string(o.increments) + "\n" +
       "# strain: logarithmic strain eps = rate * t along x (shear: gamma = rate * t); stress: "
       "Cauchy, tension positive; pressure: compression positive\n"
       "time_s,strain,strain_rate_1_per_s,stress_xx_Pa,stress_yy_Pa,stress_zz_Pa,stress_xy_Pa,"
@@ -153,7 +154,9 @@ CLI::App* add_material_command(CLI::App& app, MaterialCommandOptions& o) {
       "Every increment runs the update the solver runs: density from the strain rate, pressure\n"
       "from the EOS, then the point update (Jaumann trial deviator, rate-dependent radial\n"
       "return, heating, damage, failure). --no-heating holds the temperature; the EOS still\n"
-      "sees the work as internal energy. Writes one CSV row per increment (SI units in the\n"
+      "sees the work as internal energy. --band-width W: a regularised material (its\n"
+      "damage.regularisation_length L) fails at p_f * L / W, as a point of that band width\n"
+      "does in a run. Writes one CSV row per increment (SI units in the\n"
       "column names); see docs/materials.md. Example:\n"
       "  sphfem material cases/materials/weldox460e.yaml --material weldox460e \\\n"
       "    --path uniaxial-stress --strain-rate 1e-3 --to 2.0 -o weldox.csv --plot weldox.png");
@@ -173,6 +176,13 @@ CLI::App* add_material_command(CLI::App& app, MaterialCommandOptions& o) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-heating", o.no_heating, "drop the material's adiabatic heating");
   cmd->add_flag("--no-damage", o.no_damage, "drop the material's damage (and so its failure)");
+  cmd->add_option_function<double>(
+         "--band-width", [&o](const double& w) { o.band_width = w; },
+         "m: the point's band width in a run (2 h0 of a particle, the element size of a "
+         "hexahedron); a regularised fracture strain is scaled by L / band width as the solver "
+         "scales it (default: the calibrated law)")
+      ->check(CLI::PositiveNumber)
+      ->excludes("--no-damage");
   cmd->add_option("--increments", o.increments, "equal strain increments")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -191,6 +201,11 @@ void run_material_command(const MaterialCommandOptions& o) {
   options.final_strain = o.to;
   options.increments = o.increments;
   options.initial_temperature = o.temperature;
+  if (o.band_width) {
+    SPHFEM_CHECK(m.regularised(), o.file, ": material '", o.material,
+                 "' has no damage.regularisation_length, so --band-width changes nothing");
+    options.band_width = *o.band_width;
+  }
   const std::vector<DriverRow> rows = drive_material(m, options);
 
   write_text_atomically(o.csv, csv_text(o, rows));

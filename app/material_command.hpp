@@ -23,6 +23,7 @@ struct MaterialCommandOptions {
   bool no_heating = false;
   bool no_damage = false;
   int increments = 2000;
+  std::optional<double> band_width; // m; scales a regularised fracture strain by L / band_width
   std::string csv;
   std::string plot; // PNG; empty: none
 };

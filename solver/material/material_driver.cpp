@@ -30,11 +30,11 @@ Mat3 cauchy(const PointState& s) {
 // One increment from `start`, as the solver takes it: density, EOS pressure at the new
 // density (energy of the step start), then the point update; the energy last.
 PointState advance(const Material& m, const PointState& start, const Mat3& D, const Mat3& W,
-                   double dt) {
+                   double dt, double band_width) {
   PointState s = start;
   s.rho = start.rho * std::exp(-D.trace() * dt);
   s.p = m.pressure(s.rho, start.E);
-  s.dp = update_point(m, D, W, dt, s.rho, s.p, s.S, s.point, 0.0);
+  s.dp = update_point(m, D, W, dt, s.rho, s.p, s.S, s.point, band_width);
   const double power = 0.5 * (cauchy(start) + cauchy(s)).cwiseProduct(D).sum();
   s.E = start.E + power * dt * m.elastic.density / s.rho;
   return s;
@@ -50,10 +50,11 @@ Mat3 diagonal(double xx, double yy, double zz) {
 // every trial restarts from `start`. `d` holds the guess (the previous increment's rate) and
 // returns the solution.
 PointState uniaxial_stress_increment(const Material& m, const PointState& start, double rate,
-                                     double dt, double& d) {
+                                     double dt, double band_width, double& d) {
   constexpr int max_trials = 200;
   const auto trial = [&](double lateral, double& residual) {
-    PointState s = advance(m, start, diagonal(rate, lateral, lateral), Mat3::Zero(), dt);
+    PointState s =
+        advance(m, start, diagonal(rate, lateral, lateral), Mat3::Zero(), dt, band_width);
     residual = s.S(1, 1) - s.p;
     return s;
   };
@@ -114,6 +115,11 @@ std::vector<DriverRow> drive_material(const Material& m, const DriverOptions& o)
                "rate, got ",
                o.final_strain, " at ", o.strain_rate, " 1/s");
   SPHFEM_CHECK(o.increments >= 1, "material driver: at least one increment, got ", o.increments);
+  SPHFEM_CHECK(std::isfinite(o.band_width) && o.band_width >= 0,
+               "material driver: the band width must be ≥ 0 (m), got ", o.band_width);
+  SPHFEM_CHECK(o.band_width == 0 || m.regularised(),
+               "material driver: a band width scales only a regularised fracture strain "
+               "(damage.regularisation_length); this material has none");
   const double rate = o.strain_rate;
   const double dt = o.final_strain / rate / o.increments;
 
@@ -145,8 +151,9 @@ std::vector<DriverRow> drive_material(const Material& m, const DriverOptions& o)
     // density stops changing rather than drifting with the rate found at failure.
     if (s.point.failed)
       lateral = -0.5 * rate;
-    s = o.path == StrainPath::UniaxialStress ? uniaxial_stress_increment(m, s, rate, dt, lateral)
-                                             : advance(m, s, D, W, dt);
+    s = o.path == StrainPath::UniaxialStress
+            ? uniaxial_stress_increment(m, s, rate, dt, o.band_width, lateral)
+            : advance(m, s, D, W, dt, o.band_width);
     const double strain = o.final_strain * i / o.increments;
     rows.push_back(row_of(s, strain / rate, strain, rate, dt));
   }

@@ -27,6 +27,9 @@ struct DriverOptions {
   double final_strain = 0.1; // ε or γ at the end, of the sign of strain_rate
   int increments = 2000;     // equal increments of strain
   std::optional<double> initial_temperature; // K; default Material::initial_temperature()
+  double band_width = 0; // m: the width the solver passes a point (2 h0 of a particle, ∛V0 of a
+                         // hexahedron), scaling a regularised fracture strain by L / band_width;
+                         // 0: the calibrated law
 };
 
 // The point's state after an increment (row 0: the initial state).

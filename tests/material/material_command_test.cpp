@@ -58,6 +58,15 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
   return NAN;
 }
 
+// The first row of a CSV that has failed, or the number of rows.
+std::size_t first_failed(std::map<std::string, std::vector<double>>& csv) {
+  const auto& failed = csv["failed"];
+  std::size_t first = 0;
+  while (first < failed.size() && failed[first] == 0)
+    ++first;
+  return first;
+}
+
 const std::string library = std::string(SPHFEM_SOURCE_DIR) + "/cases/materials/weldox460e.yaml";
 const std::string tensile = "material " + library +
                             " --material weldox460e --path uniaxial-stress --strain-rate 1e-3"
@@ -102,9 +111,7 @@ TEST(MaterialCommand, FailsAtTheFractureStrain) {
   EXPECT_TRUE(fs::exists(dir / "out_damage.png"));
   auto csv = read_csv(dir / "out.csv");
   const auto& failed = csv["failed"];
-  std::size_t first = 0;
-  while (first < failed.size() && failed[first] == 0)
-    ++first;
+  const std::size_t first = first_failed(csv);
   ASSERT_LT(first, failed.size()) << "never failed";
   const double p_f = (D1 + D2 * std::exp(D3 / 3)) * std::pow(1 + 1e-3 / rate0, D4);
   EXPECT_NEAR(csv["plastic_strain"][first], p_f, 0.02 * p_f);
@@ -115,6 +122,31 @@ TEST(MaterialCommand, FailsAtTheFractureStrain) {
                                "stress_xy_Pa", "stress_yz_Pa", "stress_zx_Pa", "pressure_Pa"})
       EXPECT_NEAR(csv[column][i], 0.0, 0.0) << column << " at row " << i;
   }
+}
+
+// --band-width on the Børvik case's regularised Weldox (L = 1.3 mm): the point fails at
+// p_f × L / w for w = 2.4 mm (2 h0 of a particle at the standard preset), within 2%; on the library
+// entry, which has no L, the option is an error naming the key, and nothing is written.
+TEST(MaterialCommand, BandWidthScalesARegularisedFractureStrain) {
+  const fs::path dir = scratch("band");
+  const std::string borvik = std::string(SPHFEM_SOURCE_DIR) + "/cases/borvik_12mm/case.yaml";
+  auto r = run_sphfem("material " + borvik +
+                          " --material weldox460e --path uniaxial-stress --strain-rate 1e-3"
+                          " --to 2.0 --no-heating --band-width 0.0024 -o " +
+                          (dir / "out.csv").string(),
+                      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto csv = read_csv(dir / "out.csv");
+  ASSERT_LT(first_failed(csv), csv["failed"].size()) << "never failed";
+  const double p_f = (D1 + D2 * std::exp(D3 / 3)) * std::pow(1 + 1e-3 / rate0, D4) * 1.3 / 2.4;
+  EXPECT_NEAR(csv["plastic_strain"][first_failed(csv)], p_f, 0.02 * p_f);
+  EXPECT_NE(slurp(dir / "out.csv").find("--band-width 0.0024"), std::string::npos);
+
+  r = run_sphfem(tensile + " --band-width 0.0024 -o " + (dir / "library.csv").string(), dir);
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("'weldox460e' has no damage.regularisation_length"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "library.csv"));
 }
 
 // (c) an unknown name: non-zero exit, the name and the available ones in the message.

@@ -177,19 +177,29 @@ TEST(DriverDamage, ThresholdStrainDelaysDamageNotFailure) {
   }
 }
 
+// Damage on, heating and EOS off (p = K(ρ/ρ0 − 1) = 0 in shear, which keeps the volume).
+Material without_eos(Material m) {
+  m = without(m, false, true);
+  m.eos.reset();
+  return m;
+}
+
+// Simple shear at γ̇ = √3 · 1e-3/s (ṗ ≈ 1e-3/s) to ṗ t = p_end, 1000 increments per unit of p.
+DriverOptions shear_to(double p_end) {
+  DriverOptions o;
+  o.path = StrainPath::Shear;
+  o.strain_rate = std::sqrt(3.0) * 1e-3;
+  o.final_strain = std::sqrt(3.0) * p_end;
+  o.increments = int(1000 * p_end);
+  return o;
+}
+
 // Simple shear of a material without EOS (p = K(ρ/ρ0 − 1) = 0: shear keeps the volume), so
 // σ* = 0 and p_f = (D1 + D2) (1 + ṗ*)^D4. γ̇ = √3 · 1e-3/s gives ṗ ≈ 1e-3/s.
 TEST(DriverDamage, ShearFailsAtZeroTriaxiality) {
   const auto specs = weldox_specs();
   const MaterialSpec& spec = entry(specs, "weldox460e");
-  Material m = without(Material::from(spec), false, true);
-  m.eos.reset();
-  DriverOptions o;
-  o.path = StrainPath::Shear;
-  o.strain_rate = std::sqrt(3.0) * 1e-3;
-  o.final_strain = std::sqrt(3.0) * 2.5;
-  o.increments = 2500;
-  const auto rows = drive_material(m, o);
+  const auto rows = drive_material(without_eos(Material::from(spec)), shear_to(2.5));
   const auto failed = first_failure(rows);
   ASSERT_NE(failed, rows.end());
   const double p_f = (0.0705 + 1.732) * std::pow(1.0 + 2.0, -0.015); // D1, D2, D4 of the yaml
@@ -200,6 +210,29 @@ TEST(DriverDamage, ShearFailsAtZeroTriaxiality) {
   }
   for (auto row = failed; row != rows.end(); ++row)
     EXPECT_NEAR(row->stress.norm(), 0.0, 0.0);
+}
+
+// A regularised fracture strain (L = 1.3 mm) in the same shear: at band width w the point fails
+// at p_f × L / w — later than calibrated for w < L, earlier for w > L — and at w = 0 (a sizeless
+// point) at p_f itself. A band width on a material without L is an error, as is a negative one.
+TEST(DriverDamage, BandWidthScalesARegularisedFractureStrain) {
+  const auto specs = weldox_specs({"materials.weldox460e.damage.regularisation_length=0.0013"});
+  const Material m = without_eos(Material::from(entry(specs, "weldox460e")));
+  DriverOptions o = shear_to(5.0);
+  const double p_f = (0.0705 + 1.732) * std::pow(1.0 + 2.0, -0.015);
+  for (const double w : {0.0, 0.001, 0.0024}) {
+    o.band_width = w;
+    const auto rows = drive_material(m, o);
+    const auto failed = first_failure(rows);
+    ASSERT_NE(failed, rows.end()) << "w = " << w;
+    const double expected = w > 0 ? p_f * 0.0013 / w : p_f;
+    EXPECT_NEAR(failed->plastic_strain, expected, 0.01 * expected) << "w = " << w;
+  }
+  o.band_width = -1e-3;
+  EXPECT_THROW(drive_material(m, o), Error);
+  o.band_width = 0.0024;
+  const auto plain = weldox_specs();
+  EXPECT_THROW(drive_material(Material::from(entry(plain, "weldox460e")), o), Error);
 }
 
 // Elastic paths against their exact solutions (steel of cases/materials/bar_steel.yaml, no EOS):
