@@ -156,24 +156,6 @@ Vec3 momentum_of_others(const Frame& f, int body) {
   return total;
 }
 
-// Smallest and largest x · axis over a body's particles and element nodes in a frame
-// (+∞, −∞ when it has none).
-std::pair<double, double> extent_along(const Frame& f, int body, const Vec3& axis) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  const auto take = [&](const Vec3& x) {
-    lo = std::min(lo, x.dot(axis));
-    hi = std::max(hi, x.dot(axis));
-  };
-  for (std::size_t i = 0; i < f.x_p.size(); ++i)
-    if (f.body_p[i] == body)
-      take(f.x_p[i]);
-  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
-    if (f.body_e[k] == body)
-      for (Index n : f.hex_e[k])
-        take(f.x_n[n]);
-  return {lo, hi};
-}
-
 // The other body with the largest momentum along the axis in the first frame (the projectile),
 // -1 if none moves along it.
 int leading_body(const Frame& first, int target, const Vec3& axis) {
@@ -205,9 +187,13 @@ std::vector<Vec3> points_of(const Frame& f, int body) {
 bool passed_through(const Frame& first, const Frame& now, int target, const Vec3& axis,
                     const FragmentSource& source, const FragmentSet& set) {
   const int leader = leading_body(first, target, axis);
-  const double rear = extent_along(first, target, axis).second;
-  return leader >= 0 && std::isfinite(rear) &&
-         path_open(points_of(now, leader), source, set, rear, axis);
+  const std::vector<Vec3> target_points = points_of(first, target);
+  if (leader < 0 || target_points.empty())
+    return false;
+  double rear = -std::numeric_limits<double>::infinity();
+  for (const Vec3& x : target_points)
+    rear = std::max(rear, x.dot(axis));
+  return path_open(points_of(now, leader), source, set, rear, axis);
 }
 
 int target_body(const Model& model, const std::string& name, const fs::path& file) {
