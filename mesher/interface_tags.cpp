@@ -1,10 +1,12 @@
 // Interface tagging (METHOD.md §4.1), in the initial configuration:
 // - attachment (FE body f, SPH body s, METHOD.md §4.2): every node of f closer than 2·h_s to a
 //   particle of s gets a background particle with s's h_s = h_factor·Δp and spacing Δp;
-// - contact pair (METHOD.md §4.3): each FE body of the pair gives its surface nodes (on hexahedron
-//   faces that belong to one element only, its symmetry faces excepted: the body goes on beyond
-//   them) a background particle with h = h_factor·element_size and spacing element_size, unless
-//   an attachment tagged the node (attachment values win);
+// - contact pair (METHOD.md §4.3, docs/contact.md): each FE body of the pair gives its surface
+//   nodes (on hexahedron faces that belong to one element only, its symmetry faces excepted: the
+//   body goes on beyond them) a background particle with h = h_factor·element_size and spacing
+//   element_size, unless an attachment tagged the node (attachment values win); in a surface
+//   contact, an FE body whose material erodes gives every node one, since eroded elements
+//   expose the nodes behind them;
 // - a node that several attachments tag keeps the largest h (then the largest spacing), so the
 //   order of the case's lists does not matter;
 // - interface_p[i] = 1 if some background particle b has |x_i − x_b| < h_i + h_b (= 2·h_ij).
@@ -14,6 +16,7 @@
 
 #include "mesher/point_grid.hpp"
 #include "solver/core/error.hpp"
+#include "solver/fem/surface_faces.hpp"
 
 #include <algorithm>
 #include <array>
@@ -65,9 +68,17 @@ std::vector<Quad> symmetry_faces(const Model& m, const Case& c, const std::strin
   return quads;
 }
 
-void tag_contact_body(const Model& m, const Case& c, const BodySpec& body, int id,
+void tag_contact_body(const Model& m, const Case& c, const BodySpec& body, int id, bool every_node,
                       std::vector<Tag>& tags) {
-  for (const Index n : surface_nodes(m, id, symmetry_faces(m, c, body.name)))
+  std::vector<Index> nodes;
+  if (every_node) {
+    for (std::size_t n = 0; n < m.x_n.size(); ++n)
+      if (m.body_n[n] == id)
+        nodes.push_back(static_cast<Index>(n));
+  } else {
+    nodes = surface_nodes(m, id, symmetry_faces(m, c, body.name));
+  }
+  for (const Index n : nodes)
     if (!tags[static_cast<std::size_t>(n)].attached)
       tags[static_cast<std::size_t>(n)] = {body.h_factor * body.element_size, body.element_size,
                                            false};
@@ -96,39 +107,14 @@ std::vector<int> interface_flags(const Model& m) {
 
 } // namespace
 
+bool exposes_inner_nodes(const Case& c, const BodySpec& body) {
+  return body.method == Method::Fem && c.material(body.material).erosion;
+}
+
 std::vector<Index> surface_nodes(const Model& m, int body_id, const std::vector<Quad>& cut) {
-  // Hexahedron faces by local node (gmsh order); a face is identified by its sorted nodes.
-  static constexpr int faces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                      {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  std::vector<std::array<Index, 4>> keys;
-  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
-    if (m.body_e[e] != body_id)
-      continue;
-    for (const auto& face : faces) {
-      std::array<Index, 4> key;
-      for (int k = 0; k < 4; ++k)
-        key[k] = m.hex_e[e][face[k]];
-      std::ranges::sort(key);
-      keys.push_back(key);
-    }
-  }
-  std::ranges::sort(keys);
-  std::vector<std::array<Index, 4>> cut_keys;
-  for (const Quad& q : cut) {
-    std::array<Index, 4> key{q[0], q[1], q[2], q[3]};
-    std::ranges::sort(key);
-    cut_keys.push_back(key);
-  }
-  std::ranges::sort(cut_keys);
   std::vector<Index> nodes;
-  for (std::size_t f = 0; f < keys.size();) {
-    std::size_t same = f + 1;
-    while (same < keys.size() && keys[same] == keys[f])
-      ++same;
-    if (same == f + 1 && !std::ranges::binary_search(cut_keys, keys[f]))
-      nodes.insert(nodes.end(), keys[f].begin(), keys[f].end());
-    f = same;
-  }
+  for (const SurfaceFace& face : surface_faces(m.hex_e, m.body_e, body_id, {}, cut))
+    nodes.insert(nodes.end(), face.nodes.begin(), face.nodes.end());
   std::ranges::sort(nodes);
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   return nodes;
@@ -147,8 +133,11 @@ void tag_interfaces(Model& m, const Case& c) {
   for (const ContactSpec& contact : c.contacts)
     for (const std::string& name : contact.bodies) {
       const int id = body_id(c, name);
-      if (c.bodies[static_cast<std::size_t>(id)].method == Method::Fem)
-        tag_contact_body(m, c, c.bodies[static_cast<std::size_t>(id)], id, tags);
+      const BodySpec& body = c.bodies[static_cast<std::size_t>(id)];
+      if (body.method == Method::Fem)
+        tag_contact_body(m, c, body, id,
+                         contact.model == ContactModel::Surface && exposes_inner_nodes(c, body),
+                         tags);
     }
   m.background_nodes.clear();
   m.h_background.clear();

@@ -16,6 +16,10 @@ namespace sphfem::mesher {
 // body of `c`, meshed, with body ids in case order, in the initial configuration.
 void tag_interfaces(Model& model, const Case& c);
 
+// Whether a surface contact tags every node of FE body `body` (not only its surface): its
+// material erodes, so any node may come to lie on its surface.
+bool exposes_inner_nodes(const Case& c, const BodySpec& body);
+
 // The nodes of body `body_id`'s hexahedra that lie on a face belonging to only one of them (the
 // body's boundary), ascending. Faces among `cut` (a quarter model's symmetry faces: the whole
 // body goes on there) do not count.

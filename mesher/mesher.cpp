@@ -174,16 +174,21 @@ std::string resolution_signature(const Case& c, const BodySpec& body) {
 }
 
 // The couplings, which decide the interface tags: one line per attachment and per contact pair
-// (its penalty and exponent do not change the model), each pair's names in a fixed order, and
-// one per symmetry face of a body in contact; the lines sorted, since no order changes the tags.
-// Empty without couplings.
+// (its model; its penalty, exponent and friction do not change the model), each pair's names in
+// a fixed order, one per FE body whose every node the surface contact tags (its material
+// erodes), and one per symmetry face of a body in contact; the lines sorted, since no order
+// changes the tags. Empty without couplings.
 std::string coupling_signature(const Case& c) {
   std::vector<std::string> lines;
   for (const AttachSpec& attach : c.attachments)
     lines.push_back("attach fem=" + attach.fem_body + " sph=" + attach.sph_body + "\n");
   for (const ContactSpec& contact : c.contacts) {
     const auto [a, b] = std::minmax(contact.bodies[0], contact.bodies[1]);
-    lines.push_back("contact " + a + " " + b + "\n");
+    const bool surface = contact.model == ContactModel::Surface;
+    lines.push_back("contact " + a + " " + b + (surface ? " surface" : " kernel") + "\n");
+    for (const std::string& name : contact.bodies)
+      if (surface && mesher::exposes_inner_nodes(c, c.bodies[c.body_index(name)]))
+        lines.push_back("exposed " + name + "\n");
   }
   // A contact body's symmetry faces carry no background particles.
   for (const BoundaryConditionSpec& bc : c.boundary_conditions)

@@ -41,7 +41,8 @@ Model mesh_case(const Case& c);
 // when it is a quarter —, element_size or spacing, h_factor, lattice and material density; a
 // geometry file by its path and an FNV-1a hash of its bytes — files it includes are not hashed;
 // an FE body's h_factor only if it is in a contact pair), then one line per attachment, contact
-// pair (not the penalty or exponent) and symmetry face of a body in contact, sorted. Doubles
+// pair (its model, not the penalty, exponent or friction), FE body of a surface contact whose
+// material erodes, and symmetry face of a body in contact, sorted. Doubles
 // round-trip exactly. Throws if a geometry file is unreadable.
 std::string mesh_signature(const Case& c);
 

@@ -1,19 +1,17 @@
-// Penalty contact between bodies (METHOD.md §4.3): particles and background particles of two
-// bodies declared in contact repel each other once they come within 2h_ij, through the
-// neighbour lists the SPH sums use. Each pair has the potential
-//   Φ_ij = K V_ij (W(r_ij, h_ij) / W(Δp_ij, h_ij))ⁿ,   V_ij = 2 V_i V_j / (V_i + V_j),
-// Δp_ij the mean lattice spacing, and i gets −∂Φ_ij/∂x_i = −K V_ij n (W/W₀)ⁿ⁻¹ ∇_i W_ij / W₀,
-// j the opposite. METHOD.md's Q_i has V_i V_j in place of V_ij, which is a force times a
-// volume; dividing by the pair's (harmonic) mean volume makes K the penalty pressure it is
-// meant to be (at r = Δp, h = 1.2 Δp, n = 2, a pair of Δp³ particles pushes with ≈ 2 K Δp²).
-// Φ is the contact energy the balance counts. Contact is opt-in: bodies not named in a pair
-// pass through each other. Verified by tests/coupling/contact_test.cpp.
+// Contact between bodies: the case's contact pairs, each by its model — the paper's kernel
+// contact (kernel_contact.hpp, `model: kernel`) or the surface contact (surface_contact.hpp,
+// `model: surface`, the default). Evaluated after the particles' forces, on the particle arrays
+// and their background rows (the FE nodes of contact bodies), whose forces then go back to the
+// nodes. Keeps what the balances and the step need: the contact energy, the power friction
+// dissipates, and the contact springs' stable step. A case without contact pairs builds none of
+// this. Verified by tests/coupling/contact_test.cpp and tests/coupling/surface_contact_test.cpp.
 #pragma once
 
-#include "solver/io/case.hpp"
-#include "solver/sph/neighbour_search.hpp"
-#include "solver/state/particles.hpp"
+#include "solver/coupling/kernel_contact.hpp"
+#include "solver/coupling/surface_contact.hpp"
+#include "solver/io/state_archive.hpp"
 
+#include <limits>
 #include <vector>
 
 namespace sphfem {
@@ -21,24 +19,37 @@ namespace sphfem {
 class Contact {
 public:
   Contact() = default;
-  explicit Contact(const Case& c);
+  // p: the particle arrays with the background rows of `background`, before any step.
+  Contact(const Case& c, const Model& model, const Particles& p,
+          const BackgroundParticles& background, const HexElements& elements);
 
-  bool empty() const { return pairs_.empty(); }
-  // Adds the contact forces to f_p (and sets fc_p) of every entity, real or background;
-  // returns the contact energy Σ Φ_ij, J.
-  double apply(Particles& p, const NeighbourList& list) const;
+  bool empty() const { return kernel_.empty() && surface_.empty(); }
+  // Sets fc_p to the contact force on every row and adds it to f_p. rebuilds: the neighbour
+  // search's build count; dt: the step just taken (0 at the start).
+  void apply(Particles& p, const NeighbourList& list, long long rebuilds,
+             const HexElements& elements, double dt);
+
+  // Penalty energy stored at the last evaluation, J.
+  double energy() const { return energy_; }
+  // Power dissipated by friction at the last evaluation, W (its forces act over the next kick).
+  double friction_power() const { return friction_power_; }
+  // Critical step 2/ω of the stiffest surface contact spring near contact, s (∞ if none; the
+  // kernel contact sets no limit).
+  double stable_dt() const {
+    return omega2_ > 0 ? 2 / std::sqrt(omega2_) : std::numeric_limits<double>::infinity();
+  }
   // Total contact force on body `body` from its contact partners, N (from fc_p).
   Vec3 force_on(const Particles& p, int body) const;
 
+  void persist(StateArchive& a);
+
 private:
-  struct Pair {
-    double penalty = 0;
-    double exponent = 2;
-  };
-  int bodies_ = 0;
-  std::vector<int> pair_of_; // bodies × bodies → index into pairs_, −1 if none
-  std::vector<Pair> pairs_;
+  KernelContact kernel_;
+  SurfaceContact surface_;
   std::vector<char> in_contact_; // per body: named in some pair
+  double energy_ = 0;
+  double friction_power_ = 0;
+  double omega2_ = 0;
 };
 
 } // namespace sphfem

@@ -156,12 +156,21 @@ struct AttachSpec {
   std::string sph_body;
 };
 
-// Penalty contact between two bodies (METHOD.md §4.3): entities of one body (particles and
-// background particles) repel those of the other within 2h.
+// How two bodies in contact meet (docs/contact.md). Surface: a penalty on the overlap of their
+// physical surfaces — hexahedron faces, particles as spheres of radius Δp/2 — with optional
+// Coulomb friction. Kernel: the paper's potential (METHOD.md §4.3), acting within 2h_ij.
+enum class ContactModel { Surface, Kernel };
+
+// Penalty contact between two bodies.
 struct ContactSpec {
   std::array<std::string, 2> bodies;
-  double penalty = 0;  // K, Pa
-  double exponent = 2; // n
+  ContactModel model = ContactModel::Surface;
+  // Pa. Kernel: the penalty pressure K. Surface: the contact modulus, the pressure per unit
+  // penetration strain (penetration / the entity's size); the reader's default is the smaller
+  // P-wave modulus K + 4G/3 of the two bodies' materials.
+  double penalty = 0;
+  double exponent = 2; // kernel: n
+  double friction = 0; // surface: Coulomb coefficient μ
 };
 
 // The plane of the report's deformed section (post/section.hpp): a point on it and its normal.

@@ -326,6 +326,7 @@ private:
   std::array<const BodySpec*, 2> body_pair(const Located& item, const Case& c,
                                            std::vector<BodyPair>& earlier) const;
   std::vector<AttachSpec> attachments(const Located& at, const Case& c) const;
+  ContactSpec contact_law(const Located& at, const MaterialSpec& a, const MaterialSpec& b) const;
   std::vector<ContactSpec> contacts(const Located& at, const Case& c) const;
   FemSpec fem(const Located& at) const;
   SphSpec sph(const Located& at) const;
@@ -883,13 +884,41 @@ std::vector<AttachSpec> Reader::attachments(const Located& at, const Case& c) co
   return out;
 }
 
-// contact: [{bodies: [a, b], penalty: K, exponent: n}, ...]. Attached bodies act as one body,
-// whose entities never meet through contact (METHOD.md §4.3), so they cannot be a pair.
+// A contact law from a map with `model` (surface, the default, or kernel), `penalty`, `exponent`
+// (kernel only) and `friction` (surface only), between bodies of materials a and b. A surface
+// contact's penalty defaults to the smaller P-wave modulus of the two.
+ContactSpec Reader::contact_law(const Located& at, const MaterialSpec& a,
+                                const MaterialSpec& b) const {
+  ContactSpec spec;
+  if (const Located model = child(at, "model"); model.node.IsDefined())
+    spec.model = choice<ContactModel>(
+        model, "contact model",
+        {{"surface", ContactModel::Surface}, {"kernel", ContactModel::Kernel}});
+  const auto only_for = [&](const char* key, const char* model, const char* why) {
+    if (const Located given = child(at, key); given.node.IsDefined())
+      fail(given, std::string("only for model: ") + model + " (" + why + ")");
+  };
+  if (spec.model == ContactModel::Kernel) {
+    only_for("friction", "surface", "the kernel contact has no tangent plane");
+    spec.penalty = number(required(at, "penalty", "penalty pressure K, Pa"), "> 0 Pa", positive);
+    spec.exponent = number_or(at, "exponent", spec.exponent, "> 0", positive);
+  } else {
+    only_for("exponent", "kernel", "the surface contact's force is linear in the penetration");
+    const double modulus = std::min(ElasticConstants::from(a).p_wave_modulus(),
+                                    ElasticConstants::from(b).p_wave_modulus());
+    spec.penalty = number_or(at, "penalty", modulus, "> 0 Pa", positive);
+    spec.friction = number_or(at, "friction", 0.0, ">= 0", non_negative);
+  }
+  return spec;
+}
+
+// contact: [{bodies: [a, b], model, penalty, exponent, friction}, ...]. Attached bodies act as
+// one body, whose entities never meet through contact (METHOD.md §4.3), so they cannot be a pair.
 std::vector<ContactSpec> Reader::contacts(const Located& at, const Case& c) const {
   std::vector<ContactSpec> out;
   std::vector<BodyPair> done;
   for (const Located& item : items(at)) {
-    check_map(item, {"bodies", "penalty", "exponent"});
+    check_map(item, {"bodies", "model", "penalty", "exponent", "friction"});
     const auto [a, b] = body_pair(item, c, done);
     for (const AttachSpec& attach : c.attachments)
       if ((attach.fem_body == a->name && attach.sph_body == b->name) ||
@@ -897,10 +926,8 @@ std::vector<ContactSpec> Reader::contacts(const Located& at, const Case& c) cons
         fail(child(item, "bodies"), "'" + a->name + "' and '" + b->name +
                                         "' are attached (one body): they cannot also be in "
                                         "contact");
-    ContactSpec spec;
+    ContactSpec spec = contact_law(item, c.material(a->material), c.material(b->material));
     spec.bodies = {a->name, b->name};
-    spec.penalty = number(required(item, "penalty", "penalty pressure K, Pa"), "> 0 Pa", positive);
-    spec.exponent = number_or(item, "exponent", spec.exponent, "> 0", positive);
     out.push_back(spec);
   }
   return out;
@@ -1075,8 +1102,7 @@ Case Reader::plate_impact(const Located& root) const {
   s.core_h_factor = number_or(core, "h_factor", s.core_h_factor, "in [1.0, 2.0]",
                               [](double v) { return v >= h_factor_low && v <= h_factor_high; });
 
-  const Located projectile =
-      required(root, "projectile", "diameter, length, material, velocity, contact");
+  const Located projectile = required(root, "projectile", "diameter, length, material, velocity");
   check_map(projectile, {"diameter", "length", "nose", "material", "velocity", "gap",
                          "element_size", "h_factor", "contact"});
   s.diameter = number(required(projectile, "diameter", "m"), "> 0 m", positive);
@@ -1092,10 +1118,14 @@ Case Reader::plate_impact(const Located& root) const {
   if (const Located size = child(projectile, "element_size"); size.node.IsDefined())
     s.element_size = number(size, "> 0 m", positive);
   s.projectile_h_factor = number_or(projectile, "h_factor", s.projectile_h_factor, "> 0", positive);
-  const Located contact = required(projectile, "contact", "penalty (Pa) and exponent");
-  check_map(contact, {"penalty", "exponent"});
-  s.penalty = number(required(contact, "penalty", "penalty pressure K, Pa"), "> 0 Pa", positive);
-  s.exponent = number_or(contact, "exponent", s.exponent, "> 0", positive);
+  // The projectile–plate contact: a surface contact with the default penalty unless given.
+  // (YAML::Node's assignment writes into the node it refers to, so an absent one is replaced by
+  // a new Located, not assigned to.)
+  const Located given = child(projectile, "contact");
+  const Located contact =
+      given.node.IsDefined() ? given : Located{YAML::Node(YAML::NodeType::Map), given.path};
+  check_map(contact, {"model", "penalty", "exponent", "friction"});
+  s.contact = contact_law(contact, c.material(s.plate_material), c.material(s.projectile_material));
 
   try {
     expand_plate_impact(s, c);

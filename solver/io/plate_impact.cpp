@@ -51,11 +51,15 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   SPHFEM_CHECK(std::lround(2 * a / dp) == 2 * std::lround(a / dp),
                "core.half_width / core.spacing = ", a / dp,
                " ends in .5: the core's lattice and the ring's nodes would not meet");
-  // Contact acts within h_core + h_projectile (METHOD.md §4.3): start just beyond it.
-  const double reach = s.core_h_factor * dp + s.projectile_h_factor * element;
+  // The surface contact starts where the projectile's face meets the spheres of the core's top
+  // layer (radius Δp/2, the layer itself on z = 0); the kernel contact within h_core +
+  // h_projectile (METHOD.md §4.3). The projectile starts just beyond.
+  const bool kernel = s.contact.model == ContactModel::Kernel;
+  const double reach = kernel ? s.core_h_factor * dp + s.projectile_h_factor * element : 0.5 * dp;
   const double gap = s.gap.value_or(reach + 0.25 * std::min(dp, element));
-  SPHFEM_CHECK(gap > reach, "projectile.gap: ", gap,
-               " m starts the projectile inside the contact's reach h_core + h_projectile = ",
+  SPHFEM_CHECK(gap > reach, "projectile.gap: ", gap, " m starts the projectile inside the ",
+               kernel ? "kernel contact's reach h_core + h_projectile = "
+                      : "core's contact spheres, whose top is Δp/2 = ",
                reach, " m at this resolution");
 
   const double low = s.quarter ? 0.0 : -a;
@@ -82,10 +86,8 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
 
   c.bodies = {core, ring, projectile};
   c.attachments = {{ring.name, core.name}};
-  ContactSpec contact;
+  ContactSpec contact = s.contact;
   contact.bodies = {core.name, projectile.name};
-  contact.penalty = s.penalty;
-  contact.exponent = s.exponent;
   c.contacts = {contact};
   c.boundary_conditions = {condition(BoundaryType::Fixed, ring.name, "rim")};
   if (s.quarter)

@@ -6,7 +6,9 @@
 //   plate_ring  FE ring around it (RingGeometry), Δp at the core, graded to the clamped rim;
 //               attached to plate_core (its interface nodes coincide with the lattice's);
 //   projectile  FE cylinder, its base `gap` above the plate, velocity −v ẑ; in contact with
-//               plate_core;
+//               plate_core (a surface contact unless the case names the kernel one); by default
+//               the gap is a quarter element beyond where the contact starts: the core's
+//               spheres (Δp/2 above its top layer) or the kernel's reach h_core + h_projectile;
 //   plate_ring/rim fixed; symmetry quarter: the three bodies cut at x = 0 and y = 0 with
 //               symmetry conditions there (mirror particles for SPH, rollers for FE).
 // The plate's impact face is z = 0, its back face z = −thickness; the impact axis is −z.
@@ -41,7 +43,7 @@ struct PlateImpactSpec {
   std::optional<double> element_size; // m, else the preset's
   double projectile_h_factor = 1.2;   // its contact face's background particles
   std::string projectile_material;
-  double penalty = 0, exponent = 2; // contact (METHOD.md §4.3)
+  ContactSpec contact; // its law (model, penalty, exponent, friction); the bodies are set here
 };
 
 // The presets' names and spacings, m.

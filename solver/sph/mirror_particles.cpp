@@ -41,12 +41,13 @@ std::optional<std::pair<Vec3, Vec3>> flat_face(const BodySpec& body, const std::
 
 MirrorParticles::MirrorParticles(const Case& c) {
   const std::vector<int> group = c.body_groups();
-  // An FE body in a contact pair carries background particles on its surface: its symmetry
-  // planes mirror them too, so that the other body of the pair meets the whole surface at the
-  // plane (else the contact near a quarter model's planes is one-sided).
+  // An FE body in a kernel contact pair carries background particles on its surface: its
+  // symmetry planes mirror them too, so that the other body of the pair meets the whole surface
+  // at the plane (else the contact near a quarter model's planes is one-sided). A surface
+  // contact needs no such images: its faces reach the plane.
   const auto in_contact = [&c](const std::string& name) {
     for (const ContactSpec& pair : c.contacts)
-      if (pair.bodies[0] == name || pair.bodies[1] == name)
+      if (pair.model == ContactModel::Kernel && (pair.bodies[0] == name || pair.bodies[1] == name))
         return true;
     return false;
   };

@@ -1,6 +1,6 @@
 // Symmetry planes for SPH bodies (a `symmetry` condition on a box face of a particle body, or on
 // a flat face — a box face, a quarter cylinder's or ring's cut face xmin/ymin — of an FE body in a
-// contact pair, whose background particles the other body meets):
+// kernel contact pair, whose background particles the other body meets):
 // the real (and background) particles within reach of a plane get mirror images across it — and
 // across both planes of a corner — appended to the particle arrays, refreshed every step with the
 // mirrored position, velocity (R v), stress (R σ Rᵀ) and gradient correction (R C Rᵀ), R = I − 2 n
@@ -20,7 +20,7 @@ namespace sphfem {
 class MirrorParticles {
 public:
   MirrorParticles() = default;
-  // The planes of the case's symmetry conditions on SPH bodies and FE bodies in contact.
+  // The planes of the case's symmetry conditions on SPH bodies and FE bodies in kernel contact.
   explicit MirrorParticles(const Case& c);
 
   bool empty() const { return planes_.empty(); }

@@ -24,7 +24,7 @@ template <class T> void permute(std::vector<T>& field, const std::vector<Index>&
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
                                const std::vector<Material>& materials, const FeState* fe)
     : spec_(c.sph), materials_(materials), background_(model.background_nodes), mirror_(c),
-      contact_(c), dt_stable_(std::numeric_limits<double>::infinity()) {
+      dt_stable_(std::numeric_limits<double>::infinity()) {
   const Index n = model.particle_count(), total = n + background_.size();
   if (total == 0)
     return;
@@ -123,7 +123,6 @@ void ParticleSystem::persist(StateArchive& a) {
       [&a](const char* name, auto& field) { a.array(std::string("particles/") + name, field); });
   search_.persist(a);
   mirror_.persist(a);
-  a.value("particles/contact_energy", contact_energy_);
   a.array("particles/index_of_id", index_of_id_);
   a.value("particles/skin", skin_);
   a.value("particles/dt_stable", dt_stable_);
@@ -132,8 +131,6 @@ void ParticleSystem::persist(StateArchive& a) {
 
 void ParticleSystem::forces(double dt) {
   dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
-  if (!contact_.empty())
-    contact_energy_ = contact_.apply(particles_, search_.list());
 }
 
 void ParticleSystem::fill_background(const FeState* fe) {

@@ -4,13 +4,12 @@
 // positions. Particles are kept sorted by cell (reordered whenever the neighbour list is
 // rebuilt); id_p and index_of() map back to model.h5 order. With coupling (METHOD.md §4) the
 // arrays continue with the background particles of FE nodes, refreshed from the FE state before
-// each particle phase, and contact forces follow the SPH forces. A case without particles or
-// background particles builds none of this. Verified by tests/sph/sph_test.cpp and
-// tests/coupling/.
+// each particle phase; contact between bodies (coupling/contact.hpp) is added by the step after
+// the particle phase. A case without particles or background particles builds none of this.
+// Verified by tests/sph/sph_test.cpp and tests/coupling/.
 #pragma once
 
 #include "solver/coupling/background_particles.hpp"
-#include "solver/coupling/contact.hpp"
 #include "solver/io/case.hpp"
 #include "solver/material/material.hpp"
 #include "solver/sph/mirror_particles.hpp"
@@ -41,7 +40,7 @@ public:
   void kick(double dt_v);
   void drift(double dt);
   // Background particles from `fe`, neighbours (rebuilt when needed), kinematics, material
-  // update over dt, forces, contact.
+  // update over dt, forces.
   void update(double dt, const FeState* fe = nullptr);
   // Adds the forces on background particles to their FE nodes.
   void return_background_forces(std::vector<Vec3>& f_nodes) const;
@@ -50,9 +49,6 @@ public:
   // Force of the symmetry planes (mirror images) on the particles at the last evaluation, N:
   // an external reaction for the momentum balance.
   Vec3 mirror_force() const;
-  // Contact energy Σ Φ at the last force evaluation, J.
-  double contact_energy() const { return contact_energy_; }
-  const Contact& contact() const { return contact_; }
   const BackgroundParticles& background() const { return background_; }
   // Stable step of the particles, s (∞ without particles).
   double stable_dt() const { return dt_stable_; }
@@ -79,8 +75,6 @@ private:
   NeighbourSearch search_;
   BackgroundParticles background_;
   MirrorParticles mirror_;
-  Contact contact_;
-  double contact_energy_ = 0;
   std::vector<Index> index_of_id_;
   double skin_ = 0;
   double dt_stable_ = 0;

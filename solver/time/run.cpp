@@ -60,8 +60,8 @@ std::vector<std::string> history_columns(const Case& c, const std::vector<Probe>
   for (int b : contact_bodies(c))
     for (const char* k : {".fx", ".fy", ".fz"})
       columns.push_back("contact." + bodies[b] + k);
-  for (const char* e :
-       {"kinetic", "internal", "hourglass", "contact", "eroded", "external_work", "total"})
+  for (const char* e : {"kinetic", "internal", "hourglass", "contact", "eroded", "friction",
+                        "external_work", "total"})
     columns.push_back(std::string("energy.") + e);
   return columns;
 }
@@ -80,8 +80,8 @@ void history_row(const Simulation& sim, double dt, const std::vector<Probe>& pro
     const Vec3& f = bodies[b].contact_force;
     row.insert(row.end(), {f.x(), f.y(), f.z()});
   }
-  row.insert(row.end(),
-             {e.kinetic, e.internal, e.hourglass, e.contact, e.eroded, e.external_work, e.total()});
+  row.insert(row.end(), {e.kinetic, e.internal, e.hourglass, e.contact, e.eroded, e.friction,
+                         e.external_work, e.total()});
 }
 
 std::string format(const char* pattern, double value) {
@@ -273,10 +273,15 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   summary["threads"] = thread_count();
   summary["counts"] = {{"particles", particles}, {"nodes", nodes}, {"elements", elements}};
   summary["dt"] = {{"initial", dt0}, {"final", sim.stable_dt()}};
-  summary["energy"] = {{"kinetic", e.kinetic},     {"internal", e.internal},
-                       {"hourglass", e.hourglass}, {"contact", e.contact},
-                       {"eroded", e.eroded},       {"external_work", e.external_work},
-                       {"total", e.total()},       {"balance_error", balance}};
+  summary["energy"] = {{"kinetic", e.kinetic},
+                       {"internal", e.internal},
+                       {"hourglass", e.hourglass},
+                       {"contact", e.contact},
+                       {"eroded", e.eroded},
+                       {"friction", e.friction},
+                       {"external_work", e.external_work},
+                       {"total", e.total()},
+                       {"balance_error", balance}};
   summary["momentum_drift"] = sim.momentum_drift();
   for (const auto& b : sim.bodies())
     summary["bodies"][b.name] = {

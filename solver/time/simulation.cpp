@@ -91,6 +91,9 @@ Simulation::Simulation(const Case& c, const Model& model)
   particles_ = ParticleSystem(c, model, materials_, &fe);
   particle_boundaries_ = ParticleBoundaries(c, model);
   ties_ = InterfaceTies(c, model);
+  contact_ = Contact(c, model, particles_.particles(), particles_.background(), elements_);
+  contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
+                 0.0);
 
   dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
   particles_.return_background_forces(nodes_.f_int_n);
@@ -128,6 +131,7 @@ void Simulation::step(double dt) {
   for (Index i = 0; i < n; ++i)
     v[i] += (dt_v / m[i]) * f[i];
   particles_.kick(dt_v);
+  friction_work_ += dt_v * contact_.friction_power(); // friction's forces act over this kick
   // The symmetry planes' push on the particles is an external reaction (the mirrored half).
   const Vec3 mirror_impulse = dt_v * particles_.mirror_force();
   external_impulse_ += mirror_impulse;
@@ -168,6 +172,8 @@ void Simulation::step(double dt) {
   gather_.gather_forces(elements_, f);
   const FeState fe{nodes_, elements_, gather_};
   particles_.update(dt, &fe);
+  contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
+                 dt);
   particles_.return_background_forces(f);
   time_ += dt;
   dt_previous_ = dt;
@@ -180,6 +186,7 @@ void Simulation::persist(StateArchive& a) {
   a.value("simulation/dt_elements", dt_elements_);
   a.value("simulation/dt_previous", dt_previous_);
   a.value("simulation/external_work", external_work_);
+  a.value("simulation/friction_work", friction_work_);
   a.value("simulation/initial_energy", initial_energy_);
   a.value("simulation/initial_momentum", initial_momentum_);
   a.value("simulation/momentum_scale", momentum_scale_);
@@ -191,6 +198,7 @@ void Simulation::persist(StateArchive& a) {
       [&a](const char* name, auto& field) { a.array(std::string("elements/") + name, field); });
   a.value("elements/inelastic", elements_.inelastic);
   particles_.persist(a);
+  contact_.persist(a);
 }
 
 Energies Simulation::energies() const {
@@ -215,7 +223,8 @@ Energies Simulation::energies() const {
       deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : e.e_hg_e[k]; });
   out.eroded = deterministic_sum(
       e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? internal(k) + e.e_hg_e[k] : 0.0; });
-  out.contact = particles_.contact_energy();
+  out.contact = contact_.energy();
+  out.friction = friction_work_;
   out.external_work = external_work_;
   return out;
 }
@@ -279,8 +288,7 @@ std::vector<BodyTotals> Simulation::bodies() const {
                  ? BodySums{0, 0, e.e_int_e[k] - 0.5 * e.de_int_e[k], Vec3::Zero()}
                  : BodySums{};
     });
-    const Vec3 contact =
-        particles_.contact().empty() ? Vec3(Vec3::Zero()) : particles_.contact().force_on(part, b);
+    const Vec3 contact = contact_.force_on(part, b);
     BodyTotals totals{body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero()),
                       contact};
     totals.kinetic = sum.kinetic;

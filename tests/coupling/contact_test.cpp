@@ -42,7 +42,7 @@ struct Impact {
 
 Impact collide(bool contact) {
   test::Coupled c(blocks, {},
-                  contact ? std::vector<ContactSpec>{{{"a", "b"}, 1e11, 2}}
+                  contact ? std::vector<ContactSpec>{{{"a", "b"}, ContactModel::Kernel, 1e11, 2}}
                           : std::vector<ContactSpec>{});
   Simulation sim(c.spec, c.model);
   const Vec3 P0 = sim.momentum();

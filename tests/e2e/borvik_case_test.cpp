@@ -36,7 +36,6 @@ projectile:
   element_size: 0.002
   material: tool
   velocity: 303.5
-  contact: {penalty: 1.0e11, exponent: 2}
 output: {frames: false}
 )";
 

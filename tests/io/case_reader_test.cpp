@@ -911,21 +911,33 @@ TEST(CaseReaderCoupling, ReadsAttachAndContact) {
   const Case c = read_case_text(kBodies + R"(attach:
   - {bodies: [bar_sph, bar_fe]}
 contact:
-  - {bodies: [anvil, bar_fe], penalty: 1.0e11, exponent: 3}
+  - {bodies: [anvil, bar_fe], model: kernel, penalty: 1.0e11, exponent: 3}
   - bodies: [ball, anvil]
+    model: kernel
     penalty: 2.0e11
+  - {bodies: [ball, bar_fe], friction: 0.3}
+  - {bodies: [bar_sph, anvil], model: surface, penalty: 5.0e10}
 )",
                                 "case.yaml");
   ASSERT_EQ(c.attachments.size(), 1u);
   EXPECT_EQ(c.attachments[0].fem_body, "bar_fe"); // either order in the file
   EXPECT_EQ(c.attachments[0].sph_body, "bar_sph");
-  ASSERT_EQ(c.contacts.size(), 2u);
+  ASSERT_EQ(c.contacts.size(), 4u);
   EXPECT_EQ(c.contacts[0].bodies, (std::array<std::string, 2>{"anvil", "bar_fe"}));
+  EXPECT_EQ(c.contacts[0].model, ContactModel::Kernel);
   EXPECT_NEAR(c.contacts[0].penalty, 1.0e11, 1.0);
   EXPECT_NEAR(c.contacts[0].exponent, 3, 1e-15);
   EXPECT_EQ(c.contacts[1].bodies, (std::array<std::string, 2>{"ball", "anvil"}));
   EXPECT_NEAR(c.contacts[1].penalty, 2.0e11, 1.0);
   EXPECT_NEAR(c.contacts[1].exponent, 2, 1e-15); // the default
+  // The surface contact is the default; its penalty defaults to the softer body's P-wave modulus
+  // K + 4G/3 = E (1 − ν)/((1 + ν)(1 − 2ν)), 278.65 GPa for this steel.
+  EXPECT_EQ(c.contacts[2].model, ContactModel::Surface);
+  EXPECT_NEAR(c.contacts[2].penalty, 207e9 * 0.7 / (1.3 * 0.4), 1e-6 * 207e9);
+  EXPECT_NEAR(c.contacts[2].friction, 0.3, 1e-15);
+  EXPECT_EQ(c.contacts[3].model, ContactModel::Surface);
+  EXPECT_NEAR(c.contacts[3].penalty, 5.0e10, 1.0);
+  EXPECT_EQ(c.contacts[3].friction, 0.0);
 
   const Case none = read_case_text(kBodies + "attach: []\ncontact: []\n", "case.yaml");
   EXPECT_TRUE(none.attachments.empty());
@@ -993,7 +1005,7 @@ TEST(CaseReaderCoupling, RejectsRepeatedPairs) {
             "case.yaml:11 (attach.0)");
   EXPECT_EQ(coupling_error("contact:\n  - {bodies: [anvil, ball], penalty: 1e11}\n"
                            "  - {bodies: [bar_fe, ball], penalty: 1e11}\n"
-                           "  - {bodies: [ball, anvil], penalty: 2e11}\n"),
+                           "  - {bodies: [ball, anvil], model: kernel, penalty: 2e11}\n"),
             "case.yaml:13: contact.2.bodies: the pair 'ball', 'anvil' is already given at "
             "case.yaml:11 (contact.0)");
 }
@@ -1019,7 +1031,8 @@ TEST(CaseReaderCoupling, AttachesOneFemBodyToOneSphBody) {
 
 TEST(CaseReaderCoupling, RejectsBadContactParameters) {
   const auto contact = [](const std::string& parameters) {
-    return coupling_error("contact:\n  - {bodies: [bar_fe, anvil]" + parameters + "}\n");
+    return coupling_error("contact:\n  - {bodies: [bar_fe, anvil], model: kernel" + parameters +
+                          "}\n");
   };
   EXPECT_TRUE(reports(contact(""),
                       "case.yaml:11: contact.0.penalty: ", "missing key (penalty pressure K, Pa)"));
@@ -1033,9 +1046,25 @@ TEST(CaseReaderCoupling, RejectsBadContactParameters) {
   EXPECT_TRUE(reports(contact(", penalty: 1e11, exponent: -2"),
                       "case.yaml:11: contact.0.exponent: ", "must be > 0"));
   const Case c = read_case_text(
-      kBodies + "contact:\n  - {bodies: [bar_fe, anvil], penalty: 1e11, exponent: 1.5}\n",
+      kBodies + "contact:\n  - {bodies: [bar_fe, anvil], model: kernel, penalty: 1e11, "
+                "exponent: 1.5}\n",
       "case.yaml");
   EXPECT_NEAR(c.contacts[0].exponent, 1.5, 1e-15);
+  // Each model takes only its own keys.
+  const auto surface = [](const std::string& parameters) {
+    return coupling_error("contact:\n  - {bodies: [bar_fe, anvil]" + parameters + "}\n");
+  };
+  EXPECT_EQ(surface(", exponent: 2"),
+            "case.yaml:11: contact.0.exponent: only for model: kernel (the surface contact's force "
+            "is linear in the penetration)");
+  EXPECT_EQ(contact(", penalty: 1e11, friction: 0.2"),
+            "case.yaml:11: contact.0.friction: only for model: surface (the kernel contact has no "
+            "tangent plane)");
+  EXPECT_EQ(surface(", friction: -0.1"),
+            "case.yaml:11: contact.0.friction: must be >= 0, got -0.1");
+  EXPECT_EQ(surface(", penalty: 0"), "case.yaml:11: contact.0.penalty: must be > 0 Pa, got 0");
+  EXPECT_TRUE(reports(surface(", model: sticky"), "case.yaml:11: contact.0.model: ",
+                      "unknown contact model 'sticky' (expected one of: surface, kernel)"));
 }
 
 // Attached bodies are one body, whose entities never meet through contact (METHOD.md §4.3).
@@ -1047,7 +1076,8 @@ TEST(CaseReaderCoupling, RejectsContactBetweenAttachedBodies) {
 }
 
 TEST(CaseReaderCoupling, OverridesCouplingKeys) {
-  const std::string contact = "contact:\n  - {bodies: [bar_fe, anvil], penalty: 1e11}\n";
+  const std::string contact =
+      "contact:\n  - {bodies: [bar_fe, anvil], model: kernel, penalty: 1e11}\n";
   const Case c = read_case_text(kBodies + contact, "case.yaml",
                                 {"contact.0.penalty=5e11", "bodies.anvil.h_factor=2"});
   EXPECT_NEAR(c.contacts[0].penalty, 5e11, 1.0);

@@ -37,7 +37,7 @@ projectile:
   material: tool
   element_size: 0.002
   velocity: 303.5
-  contact: {penalty: 1.0e11, exponent: 2}
+  contact: {model: kernel, penalty: 1.0e11, exponent: 2}
 )";
 
 Case scene(const std::vector<std::string>& overrides = {}) {
@@ -99,6 +99,32 @@ TEST(PlateImpactScene, ExpandsIntoCoreRingAndProjectile) {
     EXPECT_EQ(c.boundary_conditions[k].type, BoundaryType::Symmetry);
   ASSERT_TRUE(c.output.section.has_value());
   EXPECT_TRUE(c.output.section->normal.isApprox(-Vec3::UnitY())); // u = z × n = +x
+}
+
+// Without a contact block the projectile meets the core through the surface contact, whose
+// penalty defaults to the softer P-wave modulus E (1 − ν)/((1 + ν)(1 − 2ν)) of the two materials
+// (both 200 GPa, ν 0.33 here: 296.3 GPa), and it starts a quarter element beyond the top of the
+// core's contact spheres, Δp/2 above the plate: 1 + 0.5 mm at 2 mm.
+TEST(PlateImpactScene, SurfaceContactIsTheDefault) {
+  std::string text = kScene;
+  const std::string kernel = "  contact: {model: kernel, penalty: 1.0e11, exponent: 2}\n";
+  text.erase(text.find(kernel), kernel.size());
+  const Case c = read_case_text(text, "plate.yaml");
+  ASSERT_EQ(c.contacts.size(), 1u);
+  EXPECT_EQ(c.contacts[0].model, ContactModel::Surface);
+  EXPECT_NEAR(c.contacts[0].penalty, 200e9 * 0.67 / (1.33 * 0.34), 1e-6 * 200e9);
+  EXPECT_EQ(c.contacts[0].friction, 0.0);
+  EXPECT_NEAR(body(c, "projectile").geometry.cylinder.base.z(), 0.0015, 1e-12);
+  const Case rough = read_case_text(text, "plate.yaml", {"projectile.contact.friction=0.1"});
+  EXPECT_EQ(rough.contacts[0].friction, 0.1);
+  // The contact's own keys are checked as in a case's contact list.
+  EXPECT_NE(error_of({"projectile.contact.exponent=4"}, text)
+                .find("projectile.contact.exponent: only for model: kernel"),
+            std::string::npos)
+      << error_of({"projectile.contact.exponent=4"}, text);
+  EXPECT_NE(error_of({"projectile.gap=0.0009"}, text).find("core's contact spheres"),
+            std::string::npos)
+      << error_of({"projectile.gap=0.0009"}, text);
 }
 
 TEST(PlateImpactScene, PresetsOverridesAndTheWholeModel) {

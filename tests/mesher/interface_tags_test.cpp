@@ -95,7 +95,7 @@ TEST(InterfaceTags, ContactTagsTheSurfaceNodesOfFeBodies) {
   BodySpec upper = fem_box("upper", {0, 0, 5}, {2, 2, 7}, 1);
   upper.h_factor = 1.5;
   Case c = case_of({fem_box("lower", {0, 0, 0}, {4, 4, 3}, 1), upper});
-  c.contacts.push_back({{"lower", "upper"}, 1e11, 2});
+  c.contacts.push_back({{"lower", "upper"}, ContactModel::Surface, 1e11});
   const Model m = mesh_case(c);
   // lower: 5 × 5 × 4 = 100 nodes, interior 3 × 3 × 2 = 18, surface 82;
   // upper: 3 × 3 × 3 = 27 nodes, interior 1, surface 26. Together 108.
@@ -126,7 +126,7 @@ TEST(InterfaceTags, AttachmentValuesWinOverContact) {
   Case c = attached_bars();
   c.bodies[0].h_factor = 1.5;
   c.bodies.push_back(fem_box("anvil", {0, 0, 20}, {2, 2, 22}, 1));
-  c.contacts.push_back({{"anvil", "bar_fe"}, 1e11, 2});
+  c.contacts.push_back({{"anvil", "bar_fe"}, ContactModel::Kernel, 1e11, 2});
   const Model m = mesh_case(c);
   // bar_fe: its 75 attached nodes (z ≤ 7 mm, h 1.2 mm, which include its interior nodes at z = 6
   // and 7 mm) and its remaining surface, the top layer z = 8 mm (25 nodes, h 1.5 · 1 mm);

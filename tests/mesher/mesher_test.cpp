@@ -503,9 +503,9 @@ TEST(MeshSignature, ChangesWithSphInputs) {
   }
 }
 
-// Attachments and contact pairs change the interface tags, so the signature; their order, the
-// order within a pair, the penalty and the exponent do not. An FE body's h_factor counts only
-// where it is in contact (elsewhere it changes nothing).
+// Attachments and contact pairs (and a pair's model) change the interface tags, so the
+// signature; their order, the order within a pair, the penalty, exponent and friction do not. An FE
+// body's h_factor counts only where it is in contact (elsewhere it changes nothing).
 TEST(MeshSignature, ChangesWithCouplings) {
   Case base = case_of({box_body("plate", {0, 0, 0}, {0.1, 0.1, 0.01}, 0.002),
                        sph_box_body("core", {0, 0, 0.01}, {0.01, 0.01, 0.02}, 0.001),
@@ -516,11 +516,13 @@ TEST(MeshSignature, ChangesWithCouplings) {
   EXPECT_EQ(mesh_signature(plate_h), uncoupled);
 
   base.attachments.push_back({"plate", "core"});
-  base.contacts.push_back({{"rod", "plate"}, 1e11, 2});
-  base.contacts.push_back({{"rod", "core"}, 1e11, 2});
+  base.contacts.push_back({{"rod", "plate"}, ContactModel::Kernel, 1e11, 2});
+  base.contacts.push_back({{"rod", "core"}, ContactModel::Surface, 2e11});
   const std::string s = mesh_signature(base);
   EXPECT_NE(s, uncoupled);
-  EXPECT_TRUE(s.ends_with("attach fem=plate sph=core\ncontact core rod\ncontact plate rod\n")) << s;
+  EXPECT_TRUE(s.ends_with(
+      "attach fem=plate sph=core\ncontact core rod surface\ncontact plate rod kernel\n"))
+      << s;
   EXPECT_NE(s.find("body plate method=fem box min=0,0,0 max=0.1,0.1,0.01 element_size=0.002 "
                    "h_factor=1.2\n"),
             std::string::npos)
@@ -531,6 +533,7 @@ TEST(MeshSignature, ChangesWithCouplings) {
   std::swap(other.contacts[0].bodies[0], other.contacts[0].bodies[1]);
   other.contacts[1].penalty = 5e11;
   other.contacts[1].exponent = 4;
+  other.contacts[0].friction = 0.3;
   EXPECT_EQ(mesh_signature(other), s);
 
   const auto changed = [&](auto edit) {
@@ -541,6 +544,7 @@ TEST(MeshSignature, ChangesWithCouplings) {
   EXPECT_TRUE(changed([](Case& c) { c.attachments.clear(); }));
   EXPECT_TRUE(changed([](Case& c) { c.contacts.pop_back(); }));
   EXPECT_TRUE(changed([](Case& c) { c.contacts.erase(c.contacts.begin()); }));
+  EXPECT_TRUE(changed([](Case& c) { c.contacts[0].model = ContactModel::Surface; }));
   EXPECT_TRUE(changed([](Case& c) { c.bodies[0].h_factor = 1.5; })); // plate: in contact
   EXPECT_TRUE(changed([](Case& c) { c.bodies[1].h_factor = 1.5; })); // core: SPH h
   EXPECT_TRUE(changed([](Case& c) { c.bodies[2].h_factor = 1.5; })); // rod: in contact

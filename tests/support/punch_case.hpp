@@ -41,7 +41,7 @@ inline std::string punch_case(double plate_half, double block_half, double block
          "    material: arne\n"
          "    velocity: [0, 0, -800]\n"
          "contact:\n"
-         "  - {bodies: [plate, projectile], penalty: 1.0e11, exponent: 2}\n" +
+         "  - {bodies: [plate, projectile], model: kernel, penalty: 1.0e11, exponent: 2}\n" +
          (quarter ? "boundary_conditions:\n"
                     "  - {type: symmetry, body: plate, face: xmin}\n"
                     "  - {type: symmetry, body: plate, face: ymin}\n"

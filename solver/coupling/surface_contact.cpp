@@ -1,0 +1,379 @@
+#include "solver/coupling/surface_contact.hpp"
+
+#include "solver/core/error.hpp"
+#include "solver/core/parallel.hpp"
+#include "solver/coupling/quad_projection.hpp"
+#include "solver/fem/surface_faces.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace sphfem {
+namespace {
+
+// Faces may stretch this much before a slave in contact could lie beyond the corners' reach.
+constexpr double stretch_allowance = 1.25;
+
+// A pair counts in the stable step from this fraction of the slave's size ℓ before contact: it
+// can close that gap within a step only beyond the speed of sound.
+constexpr double near_fraction = 0.5;
+
+double quad_area(const std::array<Vec3, 4>& x) {
+  return 0.5 * (x[2] - x[0]).cross(x[3] - x[1]).norm();
+}
+
+// The friction force on a slave pressed with |F_n| = normal and moving at v_rel relative to its
+// partner, and its dissipated power.
+struct Friction {
+  Vec3 force = Vec3::Zero();
+  double power = 0;
+};
+Friction coulomb(double mu, double normal, const Vec3& n, const Vec3& v_rel, double m_eff,
+                 double dt) {
+  if (mu <= 0 || dt <= 0)
+    return {};
+  const Vec3 v_t = v_rel - v_rel.dot(n) * n;
+  const double speed = v_t.norm();
+  if (speed == 0)
+    return {};
+  const double magnitude = std::min(mu * normal, 0.5 * m_eff * speed / dt);
+  return {(-magnitude / speed) * v_t, magnitude * speed};
+}
+
+} // namespace
+
+SurfaceContact::SurfaceContact(const Case& c, const Model& model, const Particles& p,
+                               const BackgroundParticles& background, const HexElements& elements)
+    : bodies_(static_cast<int>(c.bodies.size())) {
+  pair_of_.assign(static_cast<std::size_t>(bodies_) * bodies_, -1);
+  in_pair_.assign(bodies_, 0);
+  sphere_partner_.assign(bodies_, 0);
+  face_partner_.assign(bodies_, 0);
+  cut_.resize(bodies_);
+  for (const ContactSpec& spec : c.contacts) {
+    if (spec.model != ContactModel::Surface)
+      continue;
+    const int a = c.body_index(spec.bodies[0]), b = c.body_index(spec.bodies[1]);
+    pair_of_[a * bodies_ + b] = pair_of_[b * bodies_ + a] = static_cast<int>(pairs_.size());
+    pairs_.push_back({spec.penalty, spec.friction});
+    for (const auto& [self, other] : {std::pair{a, b}, std::pair{b, a}}) {
+      in_pair_[self] = 1;
+      const bool other_fem = c.bodies[other].method == Method::Fem;
+      (other_fem ? face_partner_ : sphere_partner_)[self] = 1;
+      if (other_fem && std::ranges::find(fem_bodies_, other) == fem_bodies_.end())
+        fem_bodies_.push_back(other);
+    }
+  }
+  if (pairs_.empty())
+    return;
+  std::ranges::sort(fem_bodies_);
+  for (const BoundaryConditionSpec& bc : c.boundary_conditions)
+    if (bc.type == BoundaryType::Symmetry)
+      if (const auto it = model.face_sets.find(bc.body + "/" + bc.face);
+          it != model.face_sets.end())
+        cut_[c.body_index(bc.body)].insert(cut_[c.body_index(bc.body)].end(), it->second.begin(),
+                                           it->second.end());
+  for (const int body : fem_bodies_)
+    erodes_ = erodes_ || c.material(c.bodies[body].material).erosion;
+  real_ = p.real;
+  row_of_node_.assign(model.node_count(), -1);
+  for (Index k = 0; k < background.size(); ++k)
+    row_of_node_[background.node(k)] = p.real + k;
+  build_faces(p, elements);
+
+  // A slave within contact range of a face lies within D/2 + R of the face's nearest corner (D
+  // its longest diagonal); the neighbour lists hold it if that is below h_corner + h_slave.
+  std::vector<double> slack(bodies_, std::numeric_limits<double>::infinity()); // min h − R
+  for (Index i = 0; i < p.rows(); ++i)
+    if (in_pair_[p.body_p[i]])
+      slack[p.body_p[i]] =
+          std::min(slack[p.body_p[i]], p.h_p[i] - (i < p.real ? 0.5 * p.dp_p[i] : 0.0));
+  for (const Face& face : faces_) {
+    std::array<Vec3, 4> x;
+    double h = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 4; ++a) {
+      x[a] = p.x0_p[face.rows[a]];
+      h = std::min(h, p.h_p[face.rows[a]]);
+    }
+    const double half_diagonal = 0.5 * std::max((x[2] - x[0]).norm(), (x[3] - x[1]).norm());
+    double partner_slack = std::numeric_limits<double>::infinity();
+    for (int other = 0; other < bodies_; ++other)
+      if (pair_index(face.body, other) >= 0)
+        partner_slack = std::min(partner_slack, slack[other]);
+    SPHFEM_CHECK(stretch_allowance * half_diagonal <= h + partner_slack,
+                 "contact: the surface contact of '", c.bodies[face.body].name,
+                 "' needs its background particles' h to reach ", stretch_allowance,
+                 " × half its faces' diagonal (", stretch_allowance * half_diagonal,
+                 " m) less its partners' h − R (", partner_slack, " m), got h = ", h,
+                 " m: raise bodies.", c.bodies[face.body].name, ".h_factor");
+  }
+}
+
+bool SurfaceContact::slave(const Particles& p, Index i) const {
+  if (!face_partner_[p.body_p[i]])
+    return false;
+  return i < real_ || area_[i - real_] > 0;
+}
+
+Index SurfaceContact::eroded_count(const HexElements& elements) const {
+  if (!erodes_)
+    return 0;
+  Index count = 0;
+  for (Index e = 0; e < elements.size(); ++e)
+    count += elements.eroded_e[e] && std::ranges::binary_search(fem_bodies_, elements.body_e[e]);
+  return count;
+}
+
+void SurfaceContact::build_faces(const Particles& p, const HexElements& elements) {
+  faces_.clear();
+  area_.assign(static_cast<std::size_t>(p.background), 0.0);
+  normal_.assign(static_cast<std::size_t>(p.background), Vec3::Zero());
+  for (const int body : fem_bodies_)
+    for (const SurfaceFace& surface :
+         surface_faces(elements.nodes_e, elements.body_e, body, elements.eroded_e, cut_[body])) {
+      Face face{{}, body, 0};
+      std::array<Vec3, 4> x0;
+      for (int a = 0; a < 4; ++a) {
+        face.rows[a] = row_of_node_[surface.nodes[a]];
+        SPHFEM_CHECK(face.rows[a] >= 0, "contact: node ", surface.nodes[a], " of body '", body,
+                     "' lies on its surface but carries no background particle: re-mesh");
+        x0[a] = p.x0_p[face.rows[a]];
+      }
+      const double area = quad_area(x0);
+      face.depth = elements.V0_e[surface.element] / area;
+      for (const Index row : face.rows)
+        area_[row - real_] += 0.25 * area;
+      faces_.push_back(face);
+    }
+  eroded_seen_ = eroded_count(elements);
+  built_for_ = -1;
+}
+
+void SurfaceContact::build_candidates(const Particles& p, const NeighbourList& list) {
+  // Every slave in a corner's list is a candidate of the face: (slave, face) pairs, sorted.
+  found_.clear();
+  const Index rows = p.rows();
+  for (Index f = 0; f < static_cast<Index>(faces_.size()); ++f) {
+    const Face& face = faces_[f];
+    for (const Index corner : face.rows)
+      for (const Index j : list.of(corner))
+        if (j < rows && pair_index(p.body_p[j], face.body) >= 0 && slave(p, j))
+          found_.emplace_back(j, f);
+  }
+  std::ranges::sort(found_);
+  found_.erase(std::unique(found_.begin(), found_.end()), found_.end());
+
+  candidates_.resize(found_.size());
+  slave_rows_.clear();
+  slave_offsets_.clear();
+  slave_of_row_.assign(rows, -1);
+  for (std::size_t k = 0; k < found_.size(); ++k) {
+    const auto [row, f] = found_[k];
+    if (slave_rows_.empty() || slave_rows_.back() != row) {
+      slave_of_row_[row] = static_cast<Index>(slave_rows_.size());
+      slave_rows_.push_back(row);
+      slave_offsets_.push_back(static_cast<Index>(k));
+    }
+    candidates_[k] = Candidate{row, f, Vec3::Zero(), {}, 0};
+  }
+  slave_offsets_.push_back(static_cast<Index>(found_.size()));
+
+  // The face corners' entries, grouped by background row in candidate order (counting sort).
+  master_offsets_.assign(static_cast<std::size_t>(p.background) + 1, 0);
+  for (const Candidate& c : candidates_)
+    for (const Index row : faces_[c.face].rows)
+      ++master_offsets_[row - real_ + 1];
+  for (Index k = 0; k < p.background; ++k)
+    master_offsets_[k + 1] += master_offsets_[k];
+  master_entries_.resize(master_offsets_.back());
+  cursor_.assign(master_offsets_.begin(), master_offsets_.end() - 1);
+  for (Index c = 0; c < static_cast<Index>(candidates_.size()); ++c)
+    for (int a = 0; a < 4; ++a)
+      master_entries_[cursor_[faces_[candidates_[c].face].rows[a] - real_]++] = 4 * c + a;
+}
+
+ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, double dt) const {
+  // Each particle gathers its own pairs (race-free); each pair's energy and power count half in
+  // each of its two rows — so a pair with a mirror image (no row of its own) counts half: its
+  // mirror pair, the other half, lies outside the modelled part.
+  return deterministic_sum(p.size(), ContactTotals{}, [&](Index i) {
+    const int body = p.body_p[i];
+    if (!sphere_partner_[body])
+      return ContactTotals{};
+    const int row = body * bodies_;
+    const Vec3 xi = p.x_p[i], vi = p.v_p[i];
+    const double R_i = 0.5 * p.dp_p[i], m_i = p.m_p[i];
+    Vec3 f = Vec3::Zero();
+    ContactTotals sums;
+    double stiffness = 0; // Σ k (1/m_i + 1/m_j) of the springs near contact
+    for (const Index j : list.of(i)) {
+      if (!p.real_like(j))
+        continue;
+      const int k_pair = pair_of_[row + p.body_p[j]];
+      if (k_pair < 0)
+        continue;
+      const Vec3 x_ij = xi - p.x_p[j];
+      const double r = x_ij.norm();
+      const double size = 0.5 * (p.dp_p[i] + p.dp_p[j]);
+      const double gap = r - R_i - 0.5 * p.dp_p[j];
+      if (gap >= near_fraction * size || r == 0)
+        continue;
+      const Pair& pair = pairs_[k_pair];
+      const double k = pair.modulus * size;
+      stiffness += k * (1 / m_i + 1 / p.m_p[j]);
+      if (gap >= 0)
+        continue;
+      const Vec3 n = x_ij / r;
+      const double normal = -k * gap;
+      const Friction friction =
+          coulomb(pair.friction, normal, n, vi - p.v_p[j], m_i * p.m_p[j] / (m_i + p.m_p[j]), dt);
+      const Vec3 f_ij = normal * n + friction.force;
+      f += f_ij;
+      if (j >= p.rows())
+        p.fm_p[i] += f_ij; // contact with a mirror image: part of the planes' reaction
+      sums.energy += 0.25 * k * gap * gap;
+      sums.friction_power += 0.5 * friction.power;
+    }
+    p.f_p[i] += f;
+    p.fc_p[i] += f;
+    sums.omega2 = stiffness;
+    return sums;
+  });
+}
+
+void SurfaceContact::update_normals(const Particles& p) {
+  // Area-weighted: Σ over a node's faces of ½ (x2 − x0) × (x3 − x1), normalised.
+  std::fill(normal_.begin(), normal_.end(), Vec3::Zero());
+  for (const Face& face : faces_) {
+    const auto& x = p.x_p;
+    const Vec3 n =
+        0.5 * (x[face.rows[2]] - x[face.rows[0]]).cross(x[face.rows[3]] - x[face.rows[1]]);
+    for (const Index row : face.rows)
+      normal_[row - real_] += n;
+  }
+  for (Vec3& n : normal_)
+    if (const double length = n.norm(); length > 0)
+      n /= length;
+}
+
+ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
+  // Each slave chooses its face and writes only its own candidates (race-free).
+  return deterministic_sum(static_cast<Index>(slave_rows_.size()), ContactTotals{}, [&](Index s) {
+    const Index i = slave_rows_[s];
+    const bool particle = i < real_;
+    const double R = particle ? 0.5 * p.dp_p[i] : 0.0;
+    const double size = particle ? p.dp_p[i] : std::sqrt(area_[i - real_]);
+    const Vec3 xi = p.x_p[i];
+    Index best = -1;
+    QuadPoint nearest;
+    for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c) {
+      Candidate& candidate = candidates_[c];
+      candidate.force.setZero();
+      candidate.stiffness = 0;
+      std::array<Vec3, 4> x;
+      for (int a = 0; a < 4; ++a)
+        x[a] = p.x_p[faces_[candidate.face].rows[a]];
+      // No point of the face lies nearer than the centre's distance less its farthest corner.
+      if (!particle && normal_[i - real_].dot((x[2] - x[0]).cross(x[3] - x[1])) >= 0)
+        continue; // a face that does not face the node
+      const Vec3 centre = 0.25 * (x[0] + x[1] + x[2] + x[3]);
+      double reach = 0;
+      for (const Vec3& corner : x)
+        reach = std::max(reach, (corner - centre).norm());
+      const double bound = (xi - centre).norm() - reach;
+      if (bound > R + near_fraction * size || (best >= 0 && bound >= nearest.distance))
+        continue;
+      const QuadPoint q = nearest_on_quad(x, xi);
+      if (best < 0 || q.distance < nearest.distance) {
+        best = c;
+        nearest = q;
+      }
+    }
+    if (best < 0)
+      return ContactTotals{};
+    Candidate& chosen = candidates_[best];
+    const Face& face = faces_[chosen.face];
+    // Signed distance: along the normal where the slave projects onto the face. Beyond an edge
+    // a sphere wraps round it (distance from the edge); a node counts as below the face while it
+    // lies within 45° under the edge (deeper below the face's plane than it is beyond the edge:
+    // the corner nodes of two faces pressed edge on edge slide that far apart), else outside.
+    const Vec3 d = xi - nearest.x;
+    const double below = -d.dot(nearest.normal);
+    const bool under_edge = !particle && below > 0 && (d + below * nearest.normal).norm() <= below;
+    const bool along_normal = nearest.inside || under_edge || nearest.distance == 0;
+    const double signed_distance = along_normal ? -below : nearest.distance;
+    const Vec3 n = along_normal ? nearest.normal : Vec3(d / nearest.distance);
+    const double gap = signed_distance - R;
+    if (gap >= near_fraction * size || signed_distance < -face.depth)
+      return ContactTotals{};
+    const Pair& pair = pairs_[pair_index(p.body_p[i], face.body)];
+    const double k = pair.modulus * size;
+    double inverse_mass = 1 / p.m_p[i]; // 1/m_s + Σ N_a²/m_a: the pair's effective mass
+    Vec3 v_face = Vec3::Zero();
+    for (int a = 0; a < 4; ++a) {
+      inverse_mass += nearest.N[a] * nearest.N[a] / p.m_p[face.rows[a]];
+      v_face += nearest.N[a] * p.v_p[face.rows[a]];
+    }
+    chosen.N = nearest.N;
+    chosen.stiffness = k;
+    ContactTotals sums;
+    sums.omega2 = k * inverse_mass;
+    if (gap >= 0)
+      return sums;
+    const double normal = -k * gap;
+    const Friction friction =
+        coulomb(pair.friction, normal, n, p.v_p[i] - v_face, 1 / inverse_mass, dt);
+    chosen.force = normal * n + friction.force;
+    sums.energy = 0.5 * k * gap * gap;
+    sums.friction_power = friction.power;
+    return sums;
+  });
+}
+
+ContactTotals SurfaceContact::gather(Particles& p) const {
+  // Each row sums its own entries — as a slave, then as a face corner — in a fixed order.
+  return deterministic_sum(p.rows(), ContactTotals{}, [&](Index i) {
+    if (!in_pair_[p.body_p[i]])
+      return ContactTotals{};
+    Vec3 f = Vec3::Zero();
+    if (const Index s = slave_of_row_[i]; s >= 0)
+      for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
+        f += candidates_[c].force;
+    double stiffness = 0; // its own spring as a slave and Σ k N_a² of the slaves pressing on it
+    if (const Index s = slave_of_row_[i]; s >= 0)
+      for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
+        stiffness += candidates_[c].stiffness;
+    if (i >= real_)
+      for (Index e = master_offsets_[i - real_]; e < master_offsets_[i - real_ + 1]; ++e) {
+        const Candidate& c = candidates_[master_entries_[e] / 4];
+        const double N = c.N[master_entries_[e] % 4];
+        f -= N * c.force;
+        stiffness += c.stiffness * N * N;
+      }
+    p.f_p[i] += f;
+    p.fc_p[i] += f;
+    ContactTotals sums;
+    sums.omega2 = 2 * stiffness / p.m_p[i];
+    return sums;
+  });
+}
+
+ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
+                                    const HexElements& elements, double dt) {
+  if (pairs_.empty())
+    return {};
+  if (eroded_seen_ < 0 || eroded_count(elements) != eroded_seen_)
+    build_faces(p, elements);
+  if (built_for_ != rebuilds) {
+    build_candidates(p, list);
+    built_for_ = rebuilds;
+  }
+  ContactTotals totals = spheres(p, list, dt);
+  if (!faces_.empty())
+    update_normals(p);
+  totals += segments(p, dt);
+  totals += gather(p);
+  return totals;
+}
+
+} // namespace sphfem

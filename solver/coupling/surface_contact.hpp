@@ -1,0 +1,140 @@
+// Surface contact between bodies (`model: surface`, docs/contact.md): a penalty force that starts
+// where the bodies' physical surfaces meet, not at the kernel's reach.
+// - Hexahedral bodies are their surface faces (fem/surface_faces.hpp), bilinear segments with
+//   the current outward normal; their surface nodes (background particles) are points.
+// - Particles are spheres of radius R = Δp/2: a lattice's outer particles lie Δp/2 inside the
+//   body's surface (a cell-centred lattice), so the spheres reach the surface on a flat face;
+//   a sphere of volume Δp³ (R = 0.62 Δp) would start contact 0.12 Δp early on each side.
+// Slave–segment pairs: a particle or a surface node of one body against the faces of the other,
+// both ways between two hexahedral bodies, so that neither passes through the other's nodes.
+// Each slave takes the face whose nearest point is nearest (coupling/quad_projection.hpp) — a
+// node only among the faces that face it (n_face · n_node < 0, n_node the mean outward normal of
+// its own surface faces: else a corner node that has gone a little past the other body's edge
+// finds that body's side face nearer and is pushed along the surface, not out of it) — and
+// overlaps it by δ = R − s, s the signed distance along the face's normal where the slave
+// projects onto it; beyond its edges a sphere wraps round the edge (s = its distance from the
+// edge) and a node counts as below the face within 45° under the edge, else as outside. Slaves
+// deeper than the face's element (s < −V_e/A_f) have passed through and are left alone. Sphere
+// pairs: particles of two particle bodies overlap by δ = R_i + R_j − r_ij. Penalty: p = E_c δ / ℓ
+// with E_c the pair's contact modulus (`penalty`, Pa; by default the softer P-wave modulus) and ℓ =
+// √A the slave's size, A its area (Δp² for a particle, a node's tributary area on its surface
+// faces): the slave feels F = k δ n, k = E_c √A, and the face's nodes −N_a F; the energy ½ k δ² is
+// the contact energy of the balance (the forces are its exact gradient, including the segment's
+// motion). Both forces of a pair are equal and opposite: momentum is conserved to round-off.
+// Friction (`friction: μ`): F_t = −min(μ |F|, ½ m_eff |v_t| / Δt) t̂ against the slave's tangential
+// velocity v_t relative to the face (the second bound stops a sticking pair within a step
+// without overshoot); its power −F_t · v_t ≥ 0 is dissipated energy in the balance.
+// Stable step: each pair within ℓ/2 of contact is a spring k between the slave's mass and the
+// face's nodes: ω² = k (1/m_s + Σ N_a²/m_a); an entity held by several springs — its own as a
+// slave and those of the slaves pressing on it as a face node (between two meshes, both) —
+// ω² = 2 (k_own + Σ k N_a²) / m, as if its partners were as heavy as it.
+// Candidates come from the neighbour lists: a slave within contact range of a face lies within
+// h_a + h_s of one of its corner nodes a when the corners' h is at least ½ the face's diagonal
+// (checked at the start). They are collected when the lists are rebuilt, and the faces again
+// when elements erode. Verified by tests/coupling/surface_contact_test.cpp.
+#pragma once
+
+#include "solver/coupling/background_particles.hpp"
+#include "solver/io/case.hpp"
+#include "solver/sph/neighbour_search.hpp"
+#include "solver/state/hex_elements.hpp"
+#include "solver/state/model.hpp"
+#include "solver/state/particles.hpp"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+#include <vector>
+
+namespace sphfem {
+
+// What one evaluation of contact gives besides its forces.
+struct ContactTotals {
+  double energy = 0;         // penalty energy stored now, J
+  double friction_power = 0; // power dissipated by friction now, W
+  double omega2 = 0;         // largest squared angular frequency of the contact springs, 1/s²
+  ContactTotals& operator+=(const ContactTotals& o) {
+    energy += o.energy;
+    friction_power += o.friction_power;
+    omega2 = std::max(omega2, o.omega2);
+    return *this;
+  }
+};
+
+class SurfaceContact {
+public:
+  SurfaceContact() = default;
+  // The case's surface pairs. p: the particle arrays with their background rows (of
+  // `background`'s nodes), before any step; elements: the hexahedra (reference volumes).
+  SurfaceContact(const Case& c, const Model& model, const Particles& p,
+                 const BackgroundParticles& background, const HexElements& elements);
+
+  bool empty() const { return pairs_.empty(); }
+  // Drops the faces and candidates collected so far, so that the next apply() collects them
+  // again (after a checkpoint was read into the state).
+  void forget() { eroded_seen_ = -1, built_for_ = -1; }
+  // Adds the contact and friction forces to f_p and fc_p of every row. rebuilds: the neighbour
+  // search's build count (its lists and the particle order change with it); dt: the step just
+  // taken (0 at the start: no friction then).
+  ContactTotals apply(Particles& p, const NeighbourList& list, long long rebuilds,
+                      const HexElements& elements, double dt);
+
+private:
+  struct Pair {
+    double modulus = 0;  // contact modulus E_c, Pa
+    double friction = 0; // μ
+  };
+  struct Face {
+    std::array<Index, 4> rows; // the background rows of its nodes
+    int body = 0;
+    double depth = 0; // its element's thickness V0/A0: deeper slaves have passed through, m
+  };
+  // Per candidate (slave, face): the force on the slave and the weights of the face's nodes,
+  // and the spring's stiffness where it is within reach of contact (else 0).
+  struct Candidate {
+    Index slave = 0, face = 0;
+    Vec3 force = Vec3::Zero();
+    std::array<double, 4> N{};
+    double stiffness = 0;
+  };
+
+  int pair_index(int a, int b) const { return pair_of_[a * bodies_ + b]; }
+  // Whether row i may press on a face: a particle of a body paired with a hexahedral body, or a
+  // node on the live surface of such a body.
+  bool slave(const Particles& p, Index i) const;
+  void build_faces(const Particles& p, const HexElements& elements);
+  void build_candidates(const Particles& p, const NeighbourList& list);
+  ContactTotals spheres(Particles& p, const NeighbourList& list, double dt) const;
+  void update_normals(const Particles& p);
+  ContactTotals segments(const Particles& p, double dt);
+  ContactTotals gather(Particles& p) const;
+  Index eroded_count(const HexElements& elements) const;
+
+  int bodies_ = 0;
+  std::vector<int> pair_of_; // bodies × bodies → index into pairs_, −1 if none
+  std::vector<Pair> pairs_;
+  std::vector<char> in_pair_;          // per body: in a surface pair
+  std::vector<char> sphere_partner_;   // per body: its particles meet another body's particles
+  std::vector<char> face_partner_;     // per body: paired with a hexahedral body
+  std::vector<int> fem_bodies_;        // hexahedral bodies in a surface pair: they have faces
+  bool erodes_ = false;                // some of them erode
+  std::vector<std::vector<Quad>> cut_; // per body: its symmetry faces, which are not surface
+  std::vector<Index> row_of_node_;     // node → background row, −1 if none
+  Index real_ = 0;                     // rows before the background rows
+
+  std::vector<Face> faces_;
+  std::vector<double> area_; // per background row: tributary area on live surface faces, m²
+  std::vector<Vec3> normal_; // per background row: outward normal of its surface faces now
+  Index eroded_seen_ = -1;   // eroded elements of fem_bodies_ when faces_ was built
+  long long built_for_ = -1; // the neighbour build the candidates come from
+  std::vector<Candidate> candidates_;          // grouped by slave, faces ascending
+  std::vector<Index> slave_rows_;              // the rows with candidates, ascending
+  std::vector<Index> slave_offsets_;           // per slave, into candidates_
+  std::vector<Index> slave_of_row_;            // row → index into slave_rows_, −1 if none
+  std::vector<Index> master_offsets_;          // per background row, into master_entries_
+  std::vector<Index> master_entries_;          // candidate · 4 + corner, ascending
+  std::vector<std::pair<Index, Index>> found_; // scratch: (slave row, face)
+  std::vector<Index> cursor_;                  // scratch: write positions in master_entries_
+};
+
+} // namespace sphfem
