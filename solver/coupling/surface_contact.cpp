@@ -100,12 +100,11 @@ SurfaceContact::SurfaceContact(const Case& c, const Model& model, const Particle
     for (int other = 0; other < bodies_; ++other)
       if (pair_index(face.body, other) >= 0)
         partner_slack = std::min(partner_slack, slack[other]);
-    SPHFEM_CHECK(stretch_allowance * half_diagonal <= h + partner_slack,
-                 "contact: the surface contact of '", c.bodies[face.body].name,
-                 "' needs its background particles' h to reach ", stretch_allowance,
-                 " × half its faces' diagonal (", stretch_allowance * half_diagonal,
-                 " m) less its partners' h − R (", partner_slack, " m), got h = ", h,
-                 " m: raise bodies.", c.bodies[face.body].name, ".h_factor");
+    const double needed = stretch_allowance * half_diagonal - partner_slack;
+    SPHFEM_CHECK(h >= needed, "contact: the surface contact of '", c.bodies[face.body].name,
+                 "' finds its candidates through its background particles, whose h must reach ",
+                 stretch_allowance, " × half its faces' diagonal less its partners' h − R: h ≥ ",
+                 needed, " m, got ", h, " m; raise the body's h_factor");
   }
 }
 
@@ -127,6 +126,7 @@ Index SurfaceContact::eroded_count(const HexElements& elements) const {
 void SurfaceContact::build_faces(const Particles& p, const HexElements& elements) {
   faces_.clear();
   area_.assign(static_cast<std::size_t>(p.background), 0.0);
+  thickness_.assign(static_cast<std::size_t>(p.background), 0.0);
   normal_.assign(static_cast<std::size_t>(p.background), Vec3::Zero());
   for (const int body : fem_bodies_)
     for (const SurfaceFace& surface :
@@ -141,10 +141,15 @@ void SurfaceContact::build_faces(const Particles& p, const HexElements& elements
       }
       const double area = quad_area(x0);
       face.depth = elements.V0_e[surface.element] / area;
-      for (const Index row : face.rows)
+      for (const Index row : face.rows) {
         area_[row - real_] += 0.25 * area;
+        thickness_[row - real_] += 0.25 * area * face.depth;
+      }
       faces_.push_back(face);
     }
+  for (std::size_t k = 0; k < area_.size(); ++k)
+    if (area_[k] > 0)
+      thickness_[k] /= area_[k];
   eroded_seen_ = eroded_count(elements);
   built_for_ = -1;
 }
@@ -174,7 +179,7 @@ void SurfaceContact::build_candidates(const Particles& p, const NeighbourList& l
       slave_rows_.push_back(row);
       slave_offsets_.push_back(static_cast<Index>(k));
     }
-    candidates_[k] = Candidate{row, f, Vec3::Zero(), {}, 0};
+    candidates_[k] = Candidate{row, f, Vec3::Zero(), {}, 0, 0};
   }
   slave_offsets_.push_back(static_cast<Index>(found_.size()));
 
@@ -202,7 +207,7 @@ ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, d
       return ContactTotals{};
     const int row = body * bodies_;
     const Vec3 xi = p.x_p[i], vi = p.v_p[i];
-    const double R_i = 0.5 * p.dp_p[i], m_i = p.m_p[i];
+    const double R_i = 0.5 * p.dp_p[i], m_i = p.m_p[i], V_i = m_i / p.rho0_p[i];
     Vec3 f = Vec3::Zero();
     ContactTotals sums;
     double stiffness = 0; // Σ k (1/m_i + 1/m_j) of the springs near contact
@@ -219,7 +224,8 @@ ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, d
       if (gap >= near_fraction * size || r == 0)
         continue;
       const Pair& pair = pairs_[k_pair];
-      const double k = pair.modulus * size;
+      const double V_j = p.m_p[j] / p.rho0_p[j];
+      const double k = pair.modulus * (2 * V_i * V_j / (V_i + V_j)) / (size * size);
       stiffness += k * (1 / m_i + 1 / p.m_p[j]);
       if (gap >= 0)
         continue;
@@ -262,7 +268,8 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     const Index i = slave_rows_[s];
     const bool particle = i < real_;
     const double R = particle ? 0.5 * p.dp_p[i] : 0.0;
-    const double size = particle ? p.dp_p[i] : std::sqrt(area_[i - real_]);
+    const double size = particle ? p.dp_p[i] : thickness_[i - real_];
+    const double area = particle ? p.m_p[i] / (p.rho0_p[i] * size) : area_[i - real_];
     const Vec3 xi = p.x_p[i];
     Index best = -1;
     QuadPoint nearest;
@@ -307,7 +314,7 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     if (gap >= near_fraction * size || signed_distance < -face.depth)
       return ContactTotals{};
     const Pair& pair = pairs_[pair_index(p.body_p[i], face.body)];
-    const double k = pair.modulus * size;
+    const double k = pair.modulus * area / size;
     double inverse_mass = 1 / p.m_p[i]; // 1/m_s + Σ N_a²/m_a: the pair's effective mass
     Vec3 v_face = Vec3::Zero();
     for (int a = 0; a < 4; ++a) {
@@ -316,6 +323,7 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     }
     chosen.N = nearest.N;
     chosen.stiffness = k;
+    chosen.face_inverse_mass = inverse_mass - 1 / p.m_p[i];
     ContactTotals sums;
     sums.omega2 = k * inverse_mass;
     if (gap >= 0)
@@ -339,21 +347,24 @@ ContactTotals SurfaceContact::gather(Particles& p) const {
     if (const Index s = slave_of_row_[i]; s >= 0)
       for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
         f += candidates_[c].force;
-    double stiffness = 0; // its own spring as a slave and Σ k N_a² of the slaves pressing on it
+    // ω² of the springs holding this entity: its own as a slave, k (1/m_i + Σ N_a²/m_a), and
+    // those of the slaves pressing on it as a face node, Σ k N² (1/m_i + 1/m_slave).
+    const double inverse_mass = 1 / p.m_p[i];
+    double omega2 = 0;
     if (const Index s = slave_of_row_[i]; s >= 0)
       for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
-        stiffness += candidates_[c].stiffness;
+        omega2 += candidates_[c].stiffness * (inverse_mass + candidates_[c].face_inverse_mass);
     if (i >= real_)
       for (Index e = master_offsets_[i - real_]; e < master_offsets_[i - real_ + 1]; ++e) {
         const Candidate& c = candidates_[master_entries_[e] / 4];
         const double N = c.N[master_entries_[e] % 4];
         f -= N * c.force;
-        stiffness += c.stiffness * N * N;
+        omega2 += c.stiffness * N * N * (inverse_mass + 1 / p.m_p[c.slave]);
       }
     p.f_p[i] += f;
     p.fc_p[i] += f;
     ContactTotals sums;
-    sums.omega2 = 2 * stiffness / p.m_p[i];
+    sums.omega2 = omega2;
     return sums;
   });
 }

@@ -2,9 +2,9 @@
 // where the bodies' physical surfaces meet, not at the kernel's reach.
 // - Hexahedral bodies are their surface faces (fem/surface_faces.hpp), bilinear segments with
 //   the current outward normal; their surface nodes (background particles) are points.
-// - Particles are spheres of radius R = Δp/2: a lattice's outer particles lie Δp/2 inside the
-//   body's surface (a cell-centred lattice), so the spheres reach the surface on a flat face;
-//   a sphere of volume Δp³ (R = 0.62 Δp) would start contact 0.12 Δp early on each side.
+// - Particles are spheres of radius R = Δp/2: a cell-centred lattice's outer particles lie Δp/2
+//   inside the body's surface, so the spheres reach the surface on a flat face; a sphere of
+//   volume Δp³ (R = 0.62 Δp) would start contact 0.12 Δp early on each side.
 // Slave–segment pairs: a particle or a surface node of one body against the faces of the other,
 // both ways between two hexahedral bodies, so that neither passes through the other's nodes.
 // Each slave takes the face whose nearest point is nearest (coupling/quad_projection.hpp) — a
@@ -14,20 +14,26 @@
 // overlaps it by δ = R − s, s the signed distance along the face's normal where the slave
 // projects onto it; beyond its edges a sphere wraps round the edge (s = its distance from the
 // edge) and a node counts as below the face within 45° under the edge, else as outside. Slaves
-// deeper than the face's element (s < −V_e/A_f) have passed through and are left alone. Sphere
-// pairs: particles of two particle bodies overlap by δ = R_i + R_j − r_ij. Penalty: p = E_c δ / ℓ
-// with E_c the pair's contact modulus (`penalty`, Pa; by default the softer P-wave modulus) and ℓ =
-// √A the slave's size, A its area (Δp² for a particle, a node's tributary area on its surface
-// faces): the slave feels F = k δ n, k = E_c √A, and the face's nodes −N_a F; the energy ½ k δ² is
-// the contact energy of the balance (the forces are its exact gradient, including the segment's
-// motion). Both forces of a pair are equal and opposite: momentum is conserved to round-off.
-// Friction (`friction: μ`): F_t = −min(μ |F|, ½ m_eff |v_t| / Δt) t̂ against the slave's tangential
-// velocity v_t relative to the face (the second bound stops a sticking pair within a step
-// without overshoot); its power −F_t · v_t ≥ 0 is dissipated energy in the balance.
+// deeper than the face's element (s < −V0/A0) have passed through and are left alone.
+// Sphere pairs: particles of two particle bodies overlap by δ = R_i + R_j − r_ij.
+// Penalty: p = E_c δ / ℓ with E_c the pair's contact modulus (`penalty`, Pa; by default the
+// softer P-wave modulus), on the slave's area A: F = k δ n, k = E_c A / ℓ. A particle is its
+// cell, ℓ = Δp and A = V/Δp (V = m/ρ0: a lattice's surface particles, of half or a quarter of the
+// volume, carry half or a quarter of the area); a node has its tributary area A on its surface
+// faces and ℓ the thickness V0/A0 of the elements under them. So k/m ≈ E_c/(ρ ℓ²) for every
+// entity — a light corner particle or node is no stiffer for its mass than a whole one — and a
+// pressure p presses the surfaces δ = p ℓ / E_c into each other (2.9% of ℓ for steel bars meeting
+// at 2 × 200 m/s). Two particles: k = E_c V_ij / Δp_ij², V_ij = 2 V_i V_j / (V_i + V_j), Δp_ij
+// their mean spacing. The face's nodes get −N_a F. The energy ½ k δ² is the contact energy of
+// the balance (the forces are its exact gradient, including the segment's motion); both forces
+// of a pair are equal and opposite, so momentum is conserved to round-off.
+// Friction (`friction: μ`): F_t = −min(μ |F|, ½ m_eff |v_t| / Δt) t̂ against the slave's
+// tangential velocity v_t relative to the face (the second bound stops a sticking pair within
+// a step without overshoot); its power −F_t · v_t ≥ 0 is dissipated energy in the balance.
 // Stable step: each pair within ℓ/2 of contact is a spring k between the slave's mass and the
-// face's nodes: ω² = k (1/m_s + Σ N_a²/m_a); an entity held by several springs — its own as a
-// slave and those of the slaves pressing on it as a face node (between two meshes, both) —
-// ω² = 2 (k_own + Σ k N_a²) / m, as if its partners were as heavy as it.
+// face's nodes, ω² = k (1/m_s + Σ N_a²/m_a); an entity held by several springs — its own as a
+// slave and those of the slaves pressing on it as a face node (between two meshes, both) — adds
+// theirs, k N² (1/m + 1/m_partner) each.
 // Candidates come from the neighbour lists: a slave within contact range of a face lies within
 // h_a + h_s of one of its corner nodes a when the corners' h is at least ½ the face's diagonal
 // (checked at the start). They are collected when the lists are rebuilt, and the faces again
@@ -96,6 +102,7 @@ private:
     Vec3 force = Vec3::Zero();
     std::array<double, 4> N{};
     double stiffness = 0;
+    double face_inverse_mass = 0; // Σ N_a²/m_a of the face's nodes, 1/kg
   };
 
   int pair_index(int a, int b) const { return pair_of_[a * bodies_ + b]; }
@@ -123,10 +130,11 @@ private:
   Index real_ = 0;                     // rows before the background rows
 
   std::vector<Face> faces_;
-  std::vector<double> area_; // per background row: tributary area on live surface faces, m²
-  std::vector<Vec3> normal_; // per background row: outward normal of its surface faces now
-  Index eroded_seen_ = -1;   // eroded elements of fem_bodies_ when faces_ was built
-  long long built_for_ = -1; // the neighbour build the candidates come from
+  std::vector<double> area_;      // per background row: tributary area on live surface faces, m²
+  std::vector<double> thickness_; // per background row: area-weighted V0/A0 under those faces, m
+  std::vector<Vec3> normal_;      // per background row: outward normal of its surface faces now
+  Index eroded_seen_ = -1;        // eroded elements of fem_bodies_ when faces_ was built
+  long long built_for_ = -1;      // the neighbour build the candidates come from
   std::vector<Candidate> candidates_;          // grouped by slave, faces ascending
   std::vector<Index> slave_rows_;              // the rows with candidates, ascending
   std::vector<Index> slave_offsets_;           // per slave, into candidates_
