@@ -50,6 +50,8 @@ SurfaceContact::SurfaceContact(const Case& c, const Model& model, const Particle
   sphere_partner_.assign(bodies_, 0);
   face_partner_.assign(bodies_, 0);
   cut_.resize(bodies_);
+  for (const BodySpec& body : c.bodies)
+    names_.push_back(body.name);
   for (const ContactSpec& spec : c.contacts) {
     if (spec.model != ContactModel::Surface)
       continue;
@@ -101,7 +103,7 @@ SurfaceContact::SurfaceContact(const Case& c, const Model& model, const Particle
       if (pair_index(face.body, other) >= 0)
         partner_slack = std::min(partner_slack, slack[other]);
     const double needed = stretch_allowance * half_diagonal - partner_slack;
-    SPHFEM_CHECK(h >= needed, "contact: the surface contact of '", c.bodies[face.body].name,
+    SPHFEM_CHECK(h >= needed, "contact: the surface contact of '", names_[face.body],
                  "' finds its candidates through its background particles, whose h must reach ",
                  stretch_allowance, " × half its faces' diagonal less its partners' h − R: h ≥ ",
                  needed, " m, got ", h, " m; raise the body's h_factor");
@@ -135,8 +137,10 @@ void SurfaceContact::build_faces(const Particles& p, const HexElements& elements
       std::array<Vec3, 4> x0;
       for (int a = 0; a < 4; ++a) {
         face.rows[a] = row_of_node_[surface.nodes[a]];
-        SPHFEM_CHECK(face.rows[a] >= 0, "contact: node ", surface.nodes[a], " of body '", body,
-                     "' lies on its surface but carries no background particle: re-mesh");
+        SPHFEM_CHECK(face.rows[a] >= 0, "contact: node ", surface.nodes[a], " of body '",
+                     names_[body],
+                     "' lies on its surface but carries no background particle: "
+                     "re-mesh");
         x0[a] = p.x0_p[face.rows[a]];
       }
       const double area = quad_area(x0);

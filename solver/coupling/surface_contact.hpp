@@ -49,6 +49,7 @@
 
 #include <algorithm>
 #include <array>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -118,7 +119,8 @@ private:
   Index eroded_count(const HexElements& elements) const;
 
   int bodies_ = 0;
-  std::vector<int> pair_of_; // bodies × bodies → index into pairs_, −1 if none
+  std::vector<std::string> names_; // per body, for messages
+  std::vector<int> pair_of_;       // bodies × bodies → index into pairs_, −1 if none
   std::vector<Pair> pairs_;
   std::vector<char> in_pair_;          // per body: in a surface pair
   std::vector<char> sphere_partner_;   // per body: its particles meet another body's particles
