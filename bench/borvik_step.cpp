@@ -1,11 +1,12 @@
 // Coupled throughput: entity-steps (particles + hexahedra) per second of the whole coupled step on
 // the Børvik case (cases/borvik_12mm/case.yaml, quarter model, standard preset unless overridden,
 // 303.5 m/s): the projectile's hexahedra, the plate's ring of hexahedra, the SPH core, background
-// particles, mirror images and the kernel contact, all in one `Simulation::step`. Each thread
+// particles, mirror images and the contact, all in one `Simulation::step`. Each thread
 // count gets a fresh simulation, `warm_up` steps into the impact (contact, plasticity and the
 // first damage on), then the best of five blocks of `steps` steps. Prints JSON, with the SPH
 // pair interactions per second and the nanoseconds per pair interaction per thread.
 //   bench_borvik_step [steps=100] [threads...=1 2] [--warm-up N=200] [--set key=value ...]
+#include "bench/command_line.hpp"
 #include "mesher/mesher.hpp"
 #include "solver/io/case_reader.hpp"
 #include "solver/time/simulation.hpp"
@@ -21,7 +22,15 @@
 
 using namespace sphfem;
 
+constexpr const char* kUsage =
+    "usage: bench_borvik_step [steps=100] [threads...=1 2] [--warm-up N=200] [--set key=value "
+    "...]\n"
+    "Entity-steps per second of the whole coupled step on the Borvik case (quarter, standard,\n"
+    "303.5 m/s), after N warm-up steps, best of five blocks; --set overrides a case key. Prints\n"
+    "JSON.\n";
+
 int main(int argc, char** argv) {
+  bench::help(argc, argv, kUsage);
   int steps = 100, warm_up = 200;
   std::vector<int> positional, threads;
   std::vector<std::string> overrides;
@@ -30,9 +39,9 @@ int main(int argc, char** argv) {
     if (arg == "--set" && a + 1 < argc)
       overrides.emplace_back(argv[++a]);
     else if (arg == "--warm-up" && a + 1 < argc)
-      warm_up = std::stoi(argv[++a]);
+      warm_up = bench::whole_number(argv[++a], kUsage);
     else
-      positional.push_back(std::stoi(arg));
+      positional.push_back(bench::whole_number(arg, kUsage));
   }
   if (!positional.empty())
     steps = positional.front();

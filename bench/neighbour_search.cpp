@@ -7,6 +7,7 @@
 // repetitions (a shared virtual machine's timings scatter). Also times needs_update. Prints JSON.
 //   bench_neighbour_search [repetitions] [threads...]
 #include "solver/sph/neighbour_search.hpp"
+#include "bench/command_line.hpp"
 
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -65,11 +66,17 @@ template <class Work> double best_ms(int repetitions, Work work) {
 
 } // namespace
 
+constexpr const char* kUsage =
+    "usage: bench_neighbour_search [repetitions=7] [threads...=1 2]\n"
+    "Builds the SPH neighbour lists for 100k particles in four particle orders, without and with\n"
+    "a skin, best of the repetitions. Prints JSON.\n";
+
 int main(int argc, char** argv) {
-  const int repetitions = argc > 1 ? std::stoi(argv[1]) : 7;
+  bench::help(argc, argv, kUsage);
+  const int repetitions = argc > 1 ? bench::whole_number(argv[1], kUsage) : 7;
   std::vector<int> threads;
   for (int i = 2; i < argc; ++i)
-    threads.push_back(std::stoi(argv[i]));
+    threads.push_back(bench::whole_number(argv[i], kUsage));
   if (threads.empty())
     threads = {1, 2};
 

@@ -46,8 +46,13 @@ std::string fe_block(int nx, int ny, int nz) {
 
 } // namespace
 
+constexpr const char* kUsage =
+    "usage: bench_scaling [steps=20] [threads...=1 2]\n"
+    "Cost per entity-step of the particle phase and the hexahedral step at four sizes spanning\n"
+    "30x, best of three. Prints JSON.\n";
+
 int main(int argc, char** argv) {
-  const bench::Options o = bench::parse(argc, argv, 20);
+  const bench::Options o = bench::parse(argc, argv, 20, kUsage);
   nlohmann::json out{{"benchmark", "scaling"}, {"steps", o.steps}};
   const std::array<int, 4> cube{22, 32, 46, 68};
   const std::array<std::array<int, 3>, 4> boxes{

@@ -3,6 +3,7 @@
 // the best wall time of three is kept, since single timings on a shared VM scatter by ±20%.
 #pragma once
 
+#include "bench/command_line.hpp"
 #include "solver/time/simulation.hpp"
 
 #include <omp.h>
@@ -19,10 +20,11 @@ struct Options {
   std::vector<int> threads;
 };
 
-inline Options parse(int argc, char** argv, int default_steps) {
-  Options o{argc > 1 ? std::stoi(argv[1]) : default_steps, {}};
+inline Options parse(int argc, char** argv, int default_steps, const char* usage) {
+  help(argc, argv, usage);
+  Options o{argc > 1 ? whole_number(argv[1], usage) : default_steps, {}};
   for (int i = 2; i < argc; ++i)
-    o.threads.push_back(std::stoi(argv[i]));
+    o.threads.push_back(whole_number(argv[i], usage));
   if (o.threads.empty())
     o.threads = {1, 2};
   return o;
