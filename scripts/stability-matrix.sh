@@ -18,8 +18,9 @@ close_bars=(--set 'bodies.bar_a.geometry.box={min: [0, 0, -0.2], max: [0.05, 0.0
   --set 'bodies.bar_b.geometry.box={min: [0, 0, 0.016], max: [0.05, 0.05, 0.216]}')
 speed() { echo --set "bodies.bar_a.velocity=[0,0,$1]" --set "bodies.bar_b.velocity=[0,0,-$1]"; }
 # The surface contact (docs/contact.md) in place of the case's kernel contact, its penalty the
-# default or the given one; and the bars 1 mm apart, since it acts only where they touch.
-surface() { echo --set "contact.0={bodies: [bar_a, bar_b], model: surface${1:+, penalty: $1}}"; }
+# default or the given one (into the array `surface`, since the value holds spaces); and the bars
+# 1 mm apart, since it acts only where they touch.
+surface_contact() { surface=(--set "contact.0={bodies: [bar_a, bar_b], model: surface${1:+, penalty: $1}}"); }
 touching=(--set 'bodies.bar_a.geometry.box={min: [0, 0, -0.2], max: [0.05, 0.05, 0]}'
   --set 'bodies.bar_b.geometry.box={min: [0, 0, 0.001], max: [0.05, 0.05, 0.201]}')
 soft='{model: elastic, density: 1000, youngs_modulus: 1.0e9, poisson_ratio: 0.3}'
@@ -80,13 +81,19 @@ run thickness_1 bar_pressed_sph --set bodies.bar.spacing=0.005  # 1 particle acr
 run soft_fe_bar bar_impact --set "materials.soft=$soft" --set bodies.bar_b.material=soft
 run soft_sph_bar bar_impact --set "materials.soft=$soft" --set bodies.bar_a.material=soft
 run long_10x bar_impact --set time.end=2.0e-3
-run surface_1 bar_impact $(surface) "${touching[@]}" $(speed 1) --set time.end=7.0e-4
-run surface_200 bar_impact $(surface)
-run surface_3000 bar_impact $(surface) $(speed 3000) --set time.end=5.0e-5
-run surface_3000_stiff bar_impact $(surface 2.7865e12) $(speed 3000) --set time.end=5.0e-5
-run surface_penalty_100x bar_impact $(surface 2.7865e13)
-run surface_fe_3000 bar_impact/reference_fe $(surface) $(speed 3000) --set time.end=5.0e-5
-run plate_1ms borvik_12mm --set preset=coarse --set projectile.velocity=1 --set time.end=1.0e-4
+surface_contact
+run surface_1 bar_impact "${surface[@]}" "${touching[@]}" $(speed 1) --set time.end=7.0e-4
+run surface_200 bar_impact "${surface[@]}"
+run surface_3000 bar_impact "${surface[@]}" $(speed 3000) --set time.end=5.0e-5
+run surface_fe_3000 bar_impact/reference_fe "${surface[@]}" $(speed 3000) --set time.end=5.0e-5
+surface_contact 2.7865e12 # 10 × the default
+run surface_3000_stiff bar_impact "${surface[@]}" $(speed 3000) --set time.end=5.0e-5
+surface_contact 2.7865e13 # 100 × the default
+run surface_penalty_100x bar_impact "${surface[@]}"
+# 1 m/s onto the plate: its face 0.01 mm beyond the core's spheres (Δp/2 = 0.75 mm above the
+# plate), so that it presses on the plate for 90 µs.
+run plate_1ms borvik_12mm --set preset=coarse --set projectile.velocity=1 --set projectile.gap=0.00076 \
+  --set time.end=1.0e-4
 run plate_2mm_core borvik_12mm --set preset=coarse --set core.spacing=0.006 --set time.end=1.0e-4
 for v in 20 1000 3000; do
   run plate_${v}ms borvik_12mm --set preset=coarse --set projectile.velocity=$v --set time.end=1.0e-4
