@@ -139,8 +139,7 @@ void SurfaceContact::build_faces(const Particles& p, const HexElements& elements
         face.rows[a] = row_of_node_[surface.nodes[a]];
         SPHFEM_CHECK(face.rows[a] >= 0, "contact: node ", surface.nodes[a], " of body '",
                      names_[body],
-                     "' lies on its surface but carries no background particle: "
-                     "re-mesh");
+                     "' lies on its surface but carries no background particle: re-mesh");
         x0[a] = p.x0_p[face.rows[a]];
       }
       const double area = quad_area(x0);
