@@ -76,6 +76,11 @@ enum class Method { Fem, Sph };
 // FE bodies are meshed with element_size; SPH bodies are filled with a cubic lattice of
 // the given spacing Δp, smoothing length h = h_factor · Δp. An SPH box's lattice puts the
 // particles at cell centres (Centred) or on the nodes of the matching hex grid (Nodes, box only).
+// SPH smoothing length h = h_factor · Δp. The default 1.2 is the usual 3-D choice: the cubic
+// B-spline's support 2h = 2.4 Δp then holds 57 particles of a full cubic lattice (itself
+// included). Below 1.0 (27 particles) the sums are too coarse; above 2.0 (257) too costly.
+inline constexpr double sph_h_factor_low = 1.0, sph_h_factor_high = 2.0;
+
 struct BodySpec {
   enum class Lattice { Centred, Nodes };
 
@@ -192,7 +197,7 @@ struct OutputSpec {
   CheckpointSpec checkpoint;
 };
 
-// What a scene template was given (solver/io/plate_impact.hpp), for the run's summary.json
+// What a scene template was given (solver/scenes/plate_impact.hpp), for the run's summary.json
 // ("scene"), where reports and sweeps read the impact velocity and the resolution back.
 struct SceneSpec {
   std::string name;   // plate_impact

@@ -1,11 +1,12 @@
-// Case-file reader: parse the YAML, apply --set overrides, then walk the tree with a Reader
+// Case-file reader: parse the YAML, apply --set overrides, then walk the tree with a CaseReader
 // that knows each node's key path, so every check reports "<where>: <key.path>: <problem>".
 #include "solver/io/case_reader.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/io/case_node.hpp"
 #include "solver/io/material_library.hpp"
-#include "solver/io/plate_impact.hpp"
 #include "solver/material/material.hpp"
+#include "solver/scenes/scene.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -110,11 +111,6 @@ Names face_names(const GeometrySpec& g) {
 
 // Geometry files gmsh reads as solids: its own script format and OpenCASCADE's exchange formats.
 const Names geometry_file_types{".geo", ".step", ".stp", ".brep"};
-
-// Smoothing length h = h_factor · Δp. The default 1.2 is the usual 3-D choice: the cubic
-// B-spline's support 2h = 2.4 Δp then holds 57 particles of a full cubic lattice (itself
-// included). Below 1.0 (27 particles) the sums are too coarse; above 2.0 (257) too costly.
-constexpr double h_factor_low = 1.0, h_factor_high = 2.0;
 
 constexpr auto positive = [](double v) { return v > 0; };
 constexpr auto non_negative = [](double v) { return v >= 0; };
@@ -247,16 +243,20 @@ struct Entry {
   Located key, value;
 };
 
-class Reader {
+} // namespace
+
+class CaseReader {
 public:
   // `folder`: where relative geometry file paths start (the case file's folder).
-  Reader(std::string file, std::filesystem::path folder, std::vector<std::string> overrides)
+  CaseReader(std::string file, std::filesystem::path folder, std::vector<std::string> overrides)
       : file_(std::move(file)), folder_(std::move(folder)), overrides_(std::move(overrides)) {}
 
   Case read(const YAML::Node& root) const;
   std::vector<MaterialSpec> read_materials(const YAML::Node& root) const;
 
 private:
+  friend class CaseNode; // a scene's view of one block, with these checks
+
   std::string file_;
   std::filesystem::path folder_;
   std::vector<std::string> overrides_; // key paths set by --set, in the order applied
@@ -333,11 +333,11 @@ private:
   OutputSpec output(const Located& at) const;
   Case common(const Located& root) const;
   void options(const Located& root, Case& c) const;
-  Case plate_impact(const Located& root) const;
+  Case scene(const Located& root, const Located& name) const;
 };
 
 // The entries of a map in file order; keys must be single values and appear once.
-std::vector<Entry> Reader::entries(const Located& map) const {
+std::vector<Entry> CaseReader::entries(const Located& map) const {
   if (!map.node.IsMap())
     fail(map, "must be a map, got " + describe(map.node));
   std::vector<Entry> out;
@@ -355,14 +355,14 @@ std::vector<Entry> Reader::entries(const Located& map) const {
 }
 
 // A closed map: only the `allowed` keys.
-void Reader::check_map(const Located& map, const Names& allowed) const {
+void CaseReader::check_map(const Located& map, const Names& allowed) const {
   for (const Entry& entry : entries(map))
     if (std::ranges::find(allowed, entry.name) == allowed.end())
       fail(entry.key, "unknown key (expected one of: " + comma_list(allowed) + ")");
 }
 
 // A map from user-chosen names (materials, bodies) to definitions; at least one.
-std::vector<Entry> Reader::named_entries(const Located& map, std::string_view what) const {
+std::vector<Entry> CaseReader::named_entries(const Located& map, std::string_view what) const {
   std::vector<Entry> out = entries(map);
   if (out.empty())
     fail(map, "must define at least one " + std::string(what));
@@ -372,7 +372,7 @@ std::vector<Entry> Reader::named_entries(const Located& map, std::string_view wh
   return out;
 }
 
-std::vector<Located> Reader::items(const Located& list) const {
+std::vector<Located> CaseReader::items(const Located& list) const {
   if (!list.node.IsSequence())
     fail(list, "must be a list, got " + describe(list.node));
   std::vector<Located> out;
@@ -382,19 +382,19 @@ std::vector<Located> Reader::items(const Located& list) const {
 }
 
 // The value at `key` in a map already checked by check_map(); undefined when absent.
-Located Reader::child(const Located& map, const std::string& key) const {
+Located CaseReader::child(const Located& map, const std::string& key) const {
   return {std::as_const(map.node)[key], join(map.path, key)};
 }
 
-Located Reader::required(const Located& map, const std::string& key,
-                         std::string_view meaning) const {
+Located CaseReader::required(const Located& map, const std::string& key,
+                             std::string_view meaning) const {
   Located at = child(map, key);
   if (!at.node.IsDefined())
     fail(map, at.path, "missing key (" + std::string(meaning) + ")");
   return at;
 }
 
-double Reader::number(const Located& at) const {
+double CaseReader::number(const Located& at) const {
   double value = 0;
   if (!at.node.IsScalar() || at.node.Tag() == "!" || !YAML::convert<double>::decode(at.node, value))
     fail(at, "must be a number, got " + describe(at.node));
@@ -404,7 +404,8 @@ double Reader::number(const Located& at) const {
 }
 
 // A number satisfying `ok`; `rule` says how, for the message ("> 0 kg/m³").
-template <class Ok> double Reader::number(const Located& at, std::string_view rule, Ok ok) const {
+template <class Ok>
+double CaseReader::number(const Located& at, std::string_view rule, Ok ok) const {
   const double value = number(at);
   if (!ok(value))
     fail(at, "must be " + std::string(rule) + ", got " + describe(at.node));
@@ -412,13 +413,13 @@ template <class Ok> double Reader::number(const Located& at, std::string_view ru
 }
 
 template <class Ok>
-double Reader::number_or(const Located& map, const std::string& key, double fallback,
-                         std::string_view rule, Ok ok) const {
+double CaseReader::number_or(const Located& map, const std::string& key, double fallback,
+                             std::string_view rule, Ok ok) const {
   const Located at = child(map, key);
   return at.node.IsDefined() ? number(at, rule, ok) : fallback;
 }
 
-bool Reader::flag(const Located& at) const {
+bool CaseReader::flag(const Located& at) const {
   bool value = false;
   if (!at.node.IsScalar() || at.node.Tag() == "!" || !YAML::convert<bool>::decode(at.node, value))
     fail(at, "must be true or false, got " + describe(at.node));
@@ -427,7 +428,7 @@ bool Reader::flag(const Located& at) const {
 
 // A physics term: false (off), true (on with default parameters) or a map of some of its
 // `parameters` (on; the caller reads them). Returns whether the term is on.
-bool Reader::term(const Located& at, const Names& parameters) const {
+bool CaseReader::term(const Located& at, const Names& parameters) const {
   if (at.node.IsMap()) {
     check_map(at, parameters);
     return true;
@@ -439,13 +440,13 @@ bool Reader::term(const Located& at, const Names& parameters) const {
   return on;
 }
 
-std::string Reader::text(const Located& at) const {
+std::string CaseReader::text(const Located& at) const {
   if (!at.node.IsScalar())
     fail(at, "must be a string, got " + describe(at.node));
   return at.node.Scalar();
 }
 
-std::string Reader::one_of(const Located& at, const Names& names, std::string_view what) const {
+std::string CaseReader::one_of(const Located& at, const Names& names, std::string_view what) const {
   std::string value = text(at);
   if (std::ranges::find(names, value) == names.end())
     fail(at, "unknown " + std::string(what) + " '" + value +
@@ -454,8 +455,8 @@ std::string Reader::one_of(const Located& at, const Names& names, std::string_vi
 }
 
 template <class T>
-T Reader::choice(const Located& at, std::string_view what,
-                 std::initializer_list<std::pair<std::string_view, T>> options) const {
+T CaseReader::choice(const Located& at, std::string_view what,
+                     std::initializer_list<std::pair<std::string_view, T>> options) const {
   Names names;
   for (const auto& option : options)
     names.push_back(option.first);
@@ -463,7 +464,7 @@ T Reader::choice(const Located& at, std::string_view what,
   return std::ranges::find(options, value, &std::pair<std::string_view, T>::first)->second;
 }
 
-Vec3 Reader::vec3(const Located& at) const {
+Vec3 CaseReader::vec3(const Located& at) const {
   if (!at.node.IsSequence() || at.node.size() != 3)
     fail(at, "must be a list of 3 numbers [x, y, z], got " + describe(at.node));
   const std::vector<Located> xyz = items(at);
@@ -471,7 +472,7 @@ Vec3 Reader::vec3(const Located& at) const {
 }
 
 // A piecewise-linear table [[t, f], ...]: at least one row, times >= 0, strictly increasing.
-TimeFunction Reader::time_function(const Located& at) const {
+TimeFunction CaseReader::time_function(const Located& at) const {
   const std::vector<Located> rows = items(at);
   if (rows.empty())
     fail(at, "must have at least one row [t, f]");
@@ -491,7 +492,7 @@ TimeFunction Reader::time_function(const Located& at) const {
   return TimeFunction(std::move(table));
 }
 
-TimeSpec Reader::time(const Located& at) const {
+TimeSpec CaseReader::time(const Located& at) const {
   check_map(at, {"end", "cfl", "output_interval", "history_interval"});
   TimeSpec spec;
   spec.end = number(required(at, "end", "end time, s"), "> 0 s", positive);
@@ -503,7 +504,7 @@ TimeSpec Reader::time(const Located& at) const {
   return spec;
 }
 
-MaterialSpec Reader::material(const Entry& entry) const {
+MaterialSpec CaseReader::material(const Entry& entry) const {
   const Located& at = entry.value;
   check_map(at, {"model", "density", "youngs_modulus", "poisson_ratio", "johnson_cook", "damage",
                  "heating", "eos", "erosion"});
@@ -538,7 +539,7 @@ MaterialSpec Reader::material(const Entry& entry) const {
   return spec;
 }
 
-JohnsonCook Reader::johnson_cook(const Located& at) const {
+JohnsonCook CaseReader::johnson_cook(const Located& at) const {
   check_map(at, {"A", "B", "n", "C", "rate_form", "reference_strain_rate", "m",
                  "melting_temperature", "reference_temperature"});
   JohnsonCook jc;
@@ -562,11 +563,11 @@ JohnsonCook Reader::johnson_cook(const Located& at) const {
   return jc;
 }
 
-RateForm Reader::rate_form(const Located& at) const {
+RateForm CaseReader::rate_form(const Located& at) const {
   return choice<RateForm>(at, "rate form", {{"power", RateForm::Power}, {"log", RateForm::Log}});
 }
 
-DuctileDamage Reader::damage(const Located& at, RateForm strength_form) const {
+DuctileDamage CaseReader::damage(const Located& at, RateForm strength_form) const {
   check_map(at, {"D1", "D2", "D3", "D4", "D5", "rate_form", "critical_damage", "threshold_strain",
                  "regularisation_length"});
   DuctileDamage d;
@@ -586,7 +587,7 @@ DuctileDamage Reader::damage(const Located& at, RateForm strength_form) const {
   return d;
 }
 
-AdiabaticHeating Reader::heating(const Located& at) const {
+AdiabaticHeating CaseReader::heating(const Located& at) const {
   check_map(at, {"taylor_quinney", "specific_heat"});
   AdiabaticHeating h;
   h.taylor_quinney = number_or(at, "taylor_quinney", h.taylor_quinney, "in [0, 1]",
@@ -596,7 +597,7 @@ AdiabaticHeating Reader::heating(const Located& at) const {
   return h;
 }
 
-MieGruneisen Reader::mie_gruneisen(const Located& at) const {
+MieGruneisen CaseReader::mie_gruneisen(const Located& at) const {
   check_map(at, {"model", "c0", "s", "gamma0", "a"});
   one_of(required(at, "model", "equation of state: mie_gruneisen"), {"mie_gruneisen"}, "eos");
   MieGruneisen eos;
@@ -610,7 +611,7 @@ MieGruneisen Reader::mie_gruneisen(const Located& at) const {
 
 // A geometry file path, relative to the case file's folder; the file must exist. Returns the
 // absolute path.
-std::filesystem::path Reader::geometry_file(const Located& at) const {
+std::filesystem::path CaseReader::geometry_file(const Located& at) const {
   namespace fs = std::filesystem;
   const std::string name = text(at);
   if (name.empty())
@@ -627,7 +628,7 @@ std::filesystem::path Reader::geometry_file(const Located& at) const {
   return path;
 }
 
-Sector Reader::sector(const Located& shape, Method method) const {
+Sector CaseReader::sector(const Located& shape, Method method) const {
   const Located at = child(shape, "sector");
   if (!at.node.IsDefined())
     return Sector::Full;
@@ -638,7 +639,7 @@ Sector Reader::sector(const Located& shape, Method method) const {
   return sector;
 }
 
-RingGeometry Reader::ring(const Located& at) const {
+RingGeometry CaseReader::ring(const Located& at) const {
   check_map(at, {"base", "half_width", "radius", "thickness", "rim_element_size", "sector"});
   RingGeometry g;
   g.base = vec3(required(at, "base", "centre of the bottom face [x, y, z], m"));
@@ -656,7 +657,7 @@ RingGeometry Reader::ring(const Located& at) const {
   return g;
 }
 
-GeometrySpec Reader::geometry(const Located& at, Method method) const {
+GeometrySpec CaseReader::geometry(const Located& at, Method method) const {
   check_map(at, {"box", "cylinder", "ring", "file"});
   const Located box = child(at, "box");
   const Located cylinder = child(at, "cylinder");
@@ -709,7 +710,7 @@ GeometrySpec Reader::geometry(const Located& at, Method method) const {
   return spec;
 }
 
-BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& materials) const {
+BodySpec CaseReader::body(const Entry& entry, const std::vector<MaterialSpec>& materials) const {
   const Located& at = entry.value;
   check_map(at, {"method", "geometry", "element_size", "spacing", "h_factor", "lattice", "material",
                  "velocity"});
@@ -730,8 +731,9 @@ BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& mater
     if (const Located fem_only = child(at, "element_size"); fem_only.node.IsDefined())
       fail(fem_only, "only allowed for method fem (an sph body takes spacing)");
     spec.spacing = number(required(at, "spacing", "particle spacing Δp, m"), "> 0 m", positive);
-    spec.h_factor = number_or(at, "h_factor", spec.h_factor, "in [1.0, 2.0]",
-                              [](double v) { return v >= h_factor_low && v <= h_factor_high; });
+    spec.h_factor = number_or(at, "h_factor", spec.h_factor, "in [1.0, 2.0]", [](double v) {
+      return v >= sph_h_factor_low && v <= sph_h_factor_high;
+    });
     if (const Located lattice = child(at, "lattice"); lattice.node.IsDefined()) {
       spec.lattice = choice<BodySpec::Lattice>(
           lattice, "lattice",
@@ -752,7 +754,8 @@ BodySpec Reader::body(const Entry& entry, const std::vector<MaterialSpec>& mater
 }
 
 // The body named by `item`'s required "body" key.
-const BodySpec& Reader::body_ref(const Located& item, const std::vector<BodySpec>& bodies) const {
+const BodySpec& CaseReader::body_ref(const Located& item,
+                                     const std::vector<BodySpec>& bodies) const {
   Names names;
   for (const BodySpec& body : bodies)
     names.push_back(body.name);
@@ -761,13 +764,13 @@ const BodySpec& Reader::body_ref(const Located& item, const std::vector<BodySpec
 }
 
 // Boundary conditions and loads on an SPH body act on its particle faces, which only a box has.
-void Reader::check_particle_faces(const Located& at, const BodySpec& body) const {
+void CaseReader::check_particle_faces(const Located& at, const BodySpec& body) const {
   if (body.method == Method::Sph && body.geometry.kind != GeometrySpec::Kind::Box)
     fail(at, "'" + body.name + "' is an SPH body with a " + geometry_name(body.geometry.kind) +
                  ": particle faces exist only for box bodies");
 }
 
-BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& c) const {
+BoundaryConditionSpec CaseReader::boundary_condition(const Located& at, const Case& c) const {
   check_map(at, {"type", "body", "face", "velocity", "function"});
   BoundaryConditionSpec spec;
   spec.type = choice<BoundaryType>(required(at, "type", "fixed, velocity or symmetry"),
@@ -802,7 +805,7 @@ BoundaryConditionSpec Reader::boundary_condition(const Located& at, const Case& 
   return spec;
 }
 
-PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
+PressureLoadSpec CaseReader::load(const Located& at, const Case& c) const {
   check_map(at, {"type", "body", "face", "pressure", "function"});
   one_of(required(at, "type", "load type: pressure"), {"pressure"}, "load type");
   PressureLoadSpec spec;
@@ -817,7 +820,7 @@ PressureLoadSpec Reader::load(const Located& at, const Case& c) const {
 }
 
 // A probe may name an FE body (nearest node) or an SPH body (nearest particle).
-std::vector<ProbeSpec> Reader::probes(const Located& at, const Case& c) const {
+std::vector<ProbeSpec> CaseReader::probes(const Located& at, const Case& c) const {
   std::vector<ProbeSpec> out;
   for (const Located& item : items(at)) {
     check_map(item, {"name", "body", "point"});
@@ -837,8 +840,8 @@ std::vector<ProbeSpec> Reader::probes(const Located& at, const Case& c) const {
 
 // The two distinct bodies named by `item`'s required "bodies" key. `earlier` holds the pairs
 // before it in the same list, which it must not repeat (in either order); it is appended to.
-std::array<const BodySpec*, 2> Reader::body_pair(const Located& item, const Case& c,
-                                                 std::vector<BodyPair>& earlier) const {
+std::array<const BodySpec*, 2> CaseReader::body_pair(const Located& item, const Case& c,
+                                                     std::vector<BodyPair>& earlier) const {
   const Located list = required(item, "bodies", "the two bodies [a, b]");
   if (!list.node.IsSequence() || list.node.size() != 2)
     fail(list, "must be a list of 2 body names [a, b], got " + describe(list.node));
@@ -861,7 +864,7 @@ std::array<const BodySpec*, 2> Reader::body_pair(const Located& item, const Case
 
 // attach: [{bodies: [fem, sph]}, ...], the two in either order; an SPH body joins at most one
 // FE body (its particles' sums would otherwise mix two FE bodies' background particles).
-std::vector<AttachSpec> Reader::attachments(const Located& at, const Case& c) const {
+std::vector<AttachSpec> CaseReader::attachments(const Located& at, const Case& c) const {
   std::vector<AttachSpec> out;
   std::vector<BodyPair> done;
   for (const Located& item : items(at)) {
@@ -887,8 +890,8 @@ std::vector<AttachSpec> Reader::attachments(const Located& at, const Case& c) co
 // A contact law from a map with `model` (surface, the default, or kernel), `penalty`, `exponent`
 // (kernel only) and `friction` (surface only), between bodies of materials a and b. A surface
 // contact's penalty defaults to the smaller P-wave modulus of the two.
-ContactSpec Reader::contact_law(const Located& at, const MaterialSpec& a,
-                                const MaterialSpec& b) const {
+ContactSpec CaseReader::contact_law(const Located& at, const MaterialSpec& a,
+                                    const MaterialSpec& b) const {
   ContactSpec spec;
   if (const Located model = child(at, "model"); model.node.IsDefined())
     spec.model = choice<ContactModel>(
@@ -914,7 +917,7 @@ ContactSpec Reader::contact_law(const Located& at, const MaterialSpec& a,
 
 // contact: [{bodies: [a, b], model, penalty, exponent, friction}, ...]. Attached bodies act as
 // one body, whose entities never meet through contact (METHOD.md §4.3), so they cannot be a pair.
-std::vector<ContactSpec> Reader::contacts(const Located& at, const Case& c) const {
+std::vector<ContactSpec> CaseReader::contacts(const Located& at, const Case& c) const {
   std::vector<ContactSpec> out;
   std::vector<BodyPair> done;
   for (const Located& item : items(at)) {
@@ -933,7 +936,7 @@ std::vector<ContactSpec> Reader::contacts(const Located& at, const Case& c) cons
   return out;
 }
 
-FemSpec Reader::fem(const Located& at) const {
+FemSpec CaseReader::fem(const Located& at) const {
   check_map(at, {"hourglass", "bulk_viscosity"});
   FemSpec spec;
   if (const Located hourglass = child(at, "hourglass"); hourglass.node.IsDefined()) {
@@ -957,7 +960,7 @@ FemSpec Reader::fem(const Located& at) const {
 
 // Each of the three optional terms is absent (on, defaults), false (off), true (on, defaults)
 // or a map of its parameters (on; missing ones default).
-SphSpec Reader::sph(const Located& at) const {
+SphSpec CaseReader::sph(const Located& at) const {
   check_map(at, {"artificial_viscosity", "artificial_stress", "xsph", "variable_smoothing_length",
                  "gradient_correction", "cfl", "skin"});
   SphSpec spec;
@@ -992,7 +995,7 @@ SphSpec Reader::sph(const Located& at) const {
   return spec;
 }
 
-OutputSpec Reader::output(const Located& at) const {
+OutputSpec CaseReader::output(const Located& at) const {
   check_map(at, {"frames", "section", "checkpoint"});
   OutputSpec spec;
   if (const Located frames = child(at, "frames"); frames.node.IsDefined())
@@ -1032,7 +1035,7 @@ OutputSpec Reader::output(const Located& at) const {
 }
 
 // A material library holds only `materials`; any other file is read as a whole case.
-std::vector<MaterialSpec> Reader::read_materials(const YAML::Node& node) const {
+std::vector<MaterialSpec> CaseReader::read_materials(const YAML::Node& node) const {
   if (!node.IsMap() || node.size() != 1 || !node["materials"])
     return read(node).materials;
   const Located root{node, ""};
@@ -1044,7 +1047,7 @@ std::vector<MaterialSpec> Reader::read_materials(const YAML::Node& node) const {
 }
 
 // name, time and materials: what every case has.
-Case Reader::common(const Located& root) const {
+Case CaseReader::common(const Located& root) const {
   Case c;
   const Located name = required(root, "name", "case name");
   c.name = text(name);
@@ -1058,7 +1061,7 @@ Case Reader::common(const Located& root) const {
 }
 
 // fem, sph and output: the options every case may have.
-void Reader::options(const Located& root, Case& c) const {
+void CaseReader::options(const Located& root, Case& c) const {
   if (const Located section = child(root, "fem"); section.node.IsDefined())
     c.fem = fem(section);
   if (const Located section = child(root, "sph"); section.node.IsDefined())
@@ -1067,84 +1070,31 @@ void Reader::options(const Located& root, Case& c) const {
     c.output = output(section);
 }
 
-// scene: plate_impact (solver/io/plate_impact.hpp): the plate, core and projectile blocks
-// become bodies, couplings and boundary conditions.
-Case Reader::plate_impact(const Located& root) const {
-  check_map(root, {"name", "scene", "preset", "symmetry", "time", "materials", "plate", "core",
-                   "projectile", "probes", "fem", "sph", "output"});
+// scene: <name> (solver/scenes/scene.hpp): the scene reads its own blocks and expands them into
+// bodies, couplings and conditions; probes come after, since they name the bodies it made.
+Case CaseReader::scene(const Located& root, const Located& name) const {
+  Names names;
+  for (const SceneType& type : scene_types())
+    names.push_back(type.name);
+  const std::string chosen = one_of(name, names, "scene");
+  const SceneType& type = *std::ranges::find(scene_types(), chosen, &SceneType::name);
+  Names allowed{"name", "scene", "time", "materials", "probes", "fem", "sph", "output"};
+  allowed.insert(allowed.end(), type.keys.begin(), type.keys.end());
+  check_map(root, allowed);
   Case c = common(root);
   options(root, c);
-  Names material_names;
-  for (const MaterialSpec& material : c.materials)
-    material_names.push_back(material.name);
-  PlateImpactSpec s;
-  if (const Located preset = child(root, "preset"); preset.node.IsDefined())
-    s.preset = one_of(preset, {"coarse", "standard", "fine"}, "preset");
-  if (const Located symmetry = child(root, "symmetry"); symmetry.node.IsDefined())
-    s.quarter = choice<bool>(symmetry, "symmetry", {{"quarter", true}, {"none", false}});
-
-  const Located plate = required(root, "plate", "thickness, clamped_diameter, material");
-  check_map(plate, {"thickness", "clamped_diameter", "rim_element_size", "material"});
-  s.thickness = number(required(plate, "thickness", "plate thickness, m"), "> 0 m", positive);
-  s.clamped_diameter = number(required(plate, "clamped_diameter", "diameter of the clamped rim, m"),
-                              "> 0 m", positive);
-  s.rim_element_size =
-      number_or(plate, "rim_element_size", 0.0, ">= 0 m (0: square elements)", non_negative);
-  s.plate_material =
-      one_of(required(plate, "material", "name of a material"), material_names, "material");
-
-  const Located core = required(root, "core", "half_width of the SPH core");
-  check_map(core, {"half_width", "spacing", "h_factor"});
-  s.core_half_width = number(required(core, "half_width", "half-width of the square SPH core, m"),
-                             "> 0 m", positive);
-  if (const Located spacing = child(core, "spacing"); spacing.node.IsDefined())
-    s.spacing = number(spacing, "> 0 m", positive);
-  s.core_h_factor = number_or(core, "h_factor", s.core_h_factor, "in [1.0, 2.0]",
-                              [](double v) { return v >= h_factor_low && v <= h_factor_high; });
-
-  const Located projectile = required(root, "projectile", "diameter, length, material, velocity");
-  check_map(projectile, {"diameter", "length", "nose", "material", "velocity", "gap",
-                         "element_size", "h_factor", "contact"});
-  s.diameter = number(required(projectile, "diameter", "m"), "> 0 m", positive);
-  s.length = number(required(projectile, "length", "m"), "> 0 m", positive);
-  if (const Located nose = child(projectile, "nose"); nose.node.IsDefined())
-    one_of(nose, {"blunt"}, "nose shape (only blunt is modelled)");
-  s.projectile_material =
-      one_of(required(projectile, "material", "name of a material"), material_names, "material");
-  s.velocity = number(required(projectile, "velocity", "impact speed towards the plate, m/s"),
-                      ">= 0 m/s (positive towards the plate)", non_negative);
-  if (const Located gap = child(projectile, "gap"); gap.node.IsDefined())
-    s.gap = number(gap, "> 0 m", positive);
-  if (const Located size = child(projectile, "element_size"); size.node.IsDefined())
-    s.element_size = number(size, "> 0 m", positive);
-  s.projectile_h_factor = number_or(projectile, "h_factor", s.projectile_h_factor, "> 0", positive);
-  // The projectile–plate contact: a surface contact with the default penalty unless given.
-  // (YAML::Node's assignment writes into the node it refers to, so an absent one is replaced by
-  // a new Located, not assigned to.)
-  const Located given = child(projectile, "contact");
-  const Located contact =
-      given.node.IsDefined() ? given : Located{YAML::Node(YAML::NodeType::Map), given.path};
-  check_map(contact, {"model", "penalty", "exponent", "friction"});
-  s.contact = contact_law(contact, c.material(s.plate_material), c.material(s.projectile_material));
-
-  try {
-    expand_plate_impact(s, c);
-  } catch (const Error& e) {
-    fail(root, "scene plate_impact", e.what());
-  }
+  type.read(CaseNode(*this, root.node, root.path), c);
   if (const Located list = child(root, "probes"); list.node.IsDefined())
     c.probes = probes(list, c);
   return c;
 }
 
-Case Reader::read(const YAML::Node& node) const {
+Case CaseReader::read(const YAML::Node& node) const {
   const Located root{node, ""};
   if (!node.IsMap()) // before looking up `scene`, which yaml-cpp refuses on a single value
     fail(root, "must be a map, got " + describe(node));
-  if (const Located scene = child(root, "scene"); scene.node.IsDefined()) {
-    one_of(scene, {"plate_impact"}, "scene");
-    return plate_impact(root);
-  }
+  if (const Located name = child(root, "scene"); name.node.IsDefined())
+    return scene(root, name);
   check_map(root, {"name", "time", "materials", "bodies", "boundary_conditions", "loads", "probes",
                    "attach", "contact", "fem", "sph", "output"});
   Case c = common(root);
@@ -1166,7 +1116,46 @@ Case Reader::read(const YAML::Node& node) const {
   return c;
 }
 
-} // namespace
+// ---- CaseNode: the checks above, for a scene's blocks -------------------------------------
+
+void CaseNode::check_keys(const Names& allowed) const {
+  reader_->check_map({node_, path_}, allowed);
+}
+
+CaseNode CaseNode::child(const std::string& key) const {
+  const Located at = reader_->child({node_, path_}, key);
+  return {*reader_, at.node, at.path};
+}
+
+CaseNode CaseNode::required(const std::string& key, std::string_view meaning) const {
+  const Located at = reader_->required({node_, path_}, key, meaning);
+  return {*reader_, at.node, at.path};
+}
+
+double CaseNode::number(std::string_view rule, Rule ok) const {
+  return reader_->number({node_, path_}, rule, ok);
+}
+
+double CaseNode::number_or(const std::string& key, double fallback, std::string_view rule,
+                           Rule ok) const {
+  return reader_->number_or({node_, path_}, key, fallback, rule, ok);
+}
+
+std::string CaseNode::one_of(const Names& names, std::string_view what) const {
+  return reader_->one_of({node_, path_}, names, what);
+}
+
+// An absent block is an empty map: every key of the law at its default. (YAML::Node's
+// assignment writes into the node it refers to, so an absent node is replaced, not assigned.)
+ContactSpec CaseNode::contact_law(const MaterialSpec& a, const MaterialSpec& b) const {
+  const Located at{node_.IsDefined() ? node_ : YAML::Node(YAML::NodeType::Map), path_};
+  reader_->check_map(at, {"model", "penalty", "exponent", "friction"});
+  return reader_->contact_law(at, a, b);
+}
+
+void CaseNode::fail(const std::string& label, const std::string& what) const {
+  reader_->fail({node_, path_}, label, what);
+}
 
 namespace {
 
@@ -1184,7 +1173,7 @@ auto parse(const std::string& yaml_text, const std::filesystem::path& file,
     std::error_code no_folder;
     const std::filesystem::path folder = std::filesystem::absolute(file, no_folder).parent_path();
     resolve_material_libraries(root, folder, name);
-    return read(Reader(name, folder, std::move(override_paths)), root);
+    return read(CaseReader(name, folder, std::move(override_paths)), root);
   } catch (const Error&) {
     throw;
   } catch (const YAML::ParserException& e) {
@@ -1211,11 +1200,12 @@ std::string file_text(const std::filesystem::path& file, std::string_view what) 
 
 Case read_case_text(const std::string& yaml_text, const std::filesystem::path& file,
                     const std::vector<std::string>& overrides) {
-  Case result = parse(yaml_text, file, overrides, [](const Reader& reader, const YAML::Node& root) {
-    Case c = reader.read(root);
-    flatten(root, "", c.keys);
-    return c;
-  });
+  Case result =
+      parse(yaml_text, file, overrides, [](const CaseReader& reader, const YAML::Node& root) {
+        Case c = reader.read(root);
+        flatten(root, "", c.keys);
+        return c;
+      });
   result.file = file;
   return result;
 }
@@ -1227,7 +1217,7 @@ Case read_case(const std::filesystem::path& file, const std::vector<std::string>
 std::vector<MaterialSpec> read_materials_text(const std::string& yaml_text,
                                               const std::filesystem::path& file,
                                               const std::vector<std::string>& overrides) {
-  return parse(yaml_text, file, overrides, [](const Reader& reader, const YAML::Node& root) {
+  return parse(yaml_text, file, overrides, [](const CaseReader& reader, const YAML::Node& root) {
     return reader.read_materials(root);
   });
 }

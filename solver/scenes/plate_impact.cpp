@@ -1,5 +1,6 @@
-// Expands `scene: plate_impact` into bodies, couplings and boundary conditions (see the header).
-#include "solver/io/plate_impact.hpp"
+// Reads `scene: plate_impact` and expands it into bodies, couplings and boundary conditions
+// (see the header).
+#include "solver/scenes/plate_impact.hpp"
 
 #include "solver/core/error.hpp"
 
@@ -16,6 +17,13 @@ BodySpec fem_body(const std::string& name, const std::string& material, double e
   b.element_size = element_size;
   b.material = material;
   return b;
+}
+
+constexpr bool positive(double v) {
+  return v > 0;
+}
+constexpr bool non_negative(double v) {
+  return v >= 0;
 }
 
 BoundaryConditionSpec condition(BoundaryType type, const std::string& body,
@@ -102,6 +110,62 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   if (!c.output.section)
     c.output.section = SectionPlane{Vec3(0, 0.25 * dp, -0.5 * t), -Vec3::UnitY(),
                                     std::array<double, 2>{s.quarter ? 0.0 : -2 * a, 2 * a}};
+}
+
+void read_plate_impact(const CaseNode& root, Case& c) {
+  CaseNode::Names material_names;
+  for (const MaterialSpec& material : c.materials)
+    material_names.push_back(material.name);
+  PlateImpactSpec s;
+  if (const CaseNode preset = root.child("preset"); preset.defined())
+    s.preset = preset.one_of({"coarse", "standard", "fine"}, "preset");
+  if (const CaseNode symmetry = root.child("symmetry"); symmetry.defined())
+    s.quarter = symmetry.one_of({"quarter", "none"}, "symmetry") == "quarter";
+
+  const CaseNode plate = root.required("plate", "thickness, clamped_diameter, material");
+  plate.check_keys({"thickness", "clamped_diameter", "rim_element_size", "material"});
+  s.thickness = plate.required("thickness", "plate thickness, m").number("> 0 m", positive);
+  s.clamped_diameter = plate.required("clamped_diameter", "diameter of the clamped rim, m")
+                           .number("> 0 m", positive);
+  s.rim_element_size =
+      plate.number_or("rim_element_size", 0.0, ">= 0 m (0: square elements)", non_negative);
+  s.plate_material =
+      plate.required("material", "name of a material").one_of(material_names, "material");
+
+  const CaseNode core = root.required("core", "half_width of the SPH core");
+  core.check_keys({"half_width", "spacing", "h_factor"});
+  s.core_half_width =
+      core.required("half_width", "half-width of the square SPH core, m").number("> 0 m", positive);
+  if (const CaseNode spacing = core.child("spacing"); spacing.defined())
+    s.spacing = spacing.number("> 0 m", positive);
+  s.core_h_factor = core.number_or("h_factor", s.core_h_factor, "in [1.0, 2.0]", [](double v) {
+    return v >= sph_h_factor_low && v <= sph_h_factor_high;
+  });
+
+  const CaseNode projectile = root.required("projectile", "diameter, length, material, velocity");
+  projectile.check_keys({"diameter", "length", "nose", "material", "velocity", "gap",
+                         "element_size", "h_factor", "contact"});
+  s.diameter = projectile.required("diameter", "m").number("> 0 m", positive);
+  s.length = projectile.required("length", "m").number("> 0 m", positive);
+  if (const CaseNode nose = projectile.child("nose"); nose.defined())
+    nose.one_of({"blunt"}, "nose shape (only blunt is modelled)");
+  s.projectile_material =
+      projectile.required("material", "name of a material").one_of(material_names, "material");
+  s.velocity = projectile.required("velocity", "impact speed towards the plate, m/s")
+                   .number(">= 0 m/s (positive towards the plate)", non_negative);
+  if (const CaseNode gap = projectile.child("gap"); gap.defined())
+    s.gap = gap.number("> 0 m", positive);
+  if (const CaseNode size = projectile.child("element_size"); size.defined())
+    s.element_size = size.number("> 0 m", positive);
+  s.projectile_h_factor = projectile.number_or("h_factor", s.projectile_h_factor, "> 0", positive);
+  // The projectile–plate contact: a surface contact with the default penalty unless given.
+  s.contact = projectile.child("contact").contact_law(c.material(s.plate_material),
+                                                      c.material(s.projectile_material));
+  try {
+    expand_plate_impact(s, c);
+  } catch (const Error& e) {
+    root.fail("scene plate_impact", e.what());
+  }
 }
 
 } // namespace sphfem

@@ -1,7 +1,9 @@
-// The plate perforation scene (`scene: plate_impact`, DESIGN.md "Case file"): a blunt
-// cylindrical projectile strikes the centre of a circular plate clamped at its rim. The case
-// states a few physical parameters; expand_plate_impact() turns them into ordinary bodies,
-// couplings and boundary conditions (METHOD.md §4):
+// The plate perforation scene (`scene: plate_impact`, DESIGN.md "Case file"; solver/scenes/
+// scene.hpp): a blunt cylindrical projectile strikes the centre of a circular plate clamped at
+// its rim. The case states a few physical parameters in its `preset`, `symmetry`, `plate`,
+// `core` and `projectile` blocks; read_plate_impact() reads them into a PlateImpactSpec and
+// expand_plate_impact() turns that into ordinary bodies, couplings and boundary conditions
+// (METHOD.md §4):
 //   plate_core  SPH box |x|, |y| ≤ a through the thickness, lattice on nodes (spacing Δp);
 //   plate_ring  FE ring around it (RingGeometry), Δp at the core, graded to the clamped rim;
 //               attached to plate_core (its interface nodes coincide with the lattice's);
@@ -15,10 +17,11 @@
 // Resolution presets set Δp (the core spacing, the ring's size at the core and the projectile's
 // element size): coarse 1.5 mm, standard 1 mm, fine 0.75 mm (8, 12 and 16 particles through
 // Børvik's 12 mm; at 2 mm, 6, no plug separates at 303.5 m/s); an explicit core.spacing or
-// projectile.element_size wins. Verified by tests/io/plate_impact_test.cpp.
+// projectile.element_size wins. Verified by tests/scenes/plate_impact_test.cpp.
 #pragma once
 
 #include "solver/io/case.hpp"
+#include "solver/io/case_node.hpp"
 
 #include <optional>
 #include <string>
@@ -61,5 +64,10 @@ double preset_spacing(const std::string& preset);
 // and its SceneSpec to `c` (whose materials are read). Throws sphfem::Error for an inconsistent
 // scene, naming the key (e.g. "core.half_width: must exceed the projectile's radius 0.01 m").
 void expand_plate_impact(const PlateImpactSpec& s, Case& c);
+
+// Reads the scene's blocks at the case's top level (`root`) into a PlateImpactSpec, located
+// errors for every value, and expands it into `c` (whose materials are read); the scene's own
+// checks are reported at the top of the file under "scene plate_impact".
+void read_plate_impact(const CaseNode& root, Case& c);
 
 } // namespace sphfem

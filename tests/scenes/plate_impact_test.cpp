@@ -1,8 +1,8 @@
-// Tests of `scene: plate_impact` (solver/io/plate_impact.hpp): the bodies, couplings and
+// Tests of `scene: plate_impact` (solver/scenes/plate_impact.hpp): the bodies, couplings and
 // conditions it expands into, its presets and overrides, its errors, and — meshed — that the
 // quarter model holds a quarter of the whole one's mass and its interface matches the lattice.
 #include "solver/io/case_reader.hpp"
-#include "solver/io/plate_impact.hpp"
+#include "solver/scenes/plate_impact.hpp"
 
 #include "mesher/mesher.hpp"
 #include "solver/core/error.hpp"
