@@ -5,6 +5,7 @@
 #include "app/sweep_command.hpp"
 #include "mesher/mesher.hpp"
 #include "solver/core/error.hpp"
+#include "solver/fem/hex_quality.hpp"
 #include "solver/io/case_reader.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/model_h5.hpp"
@@ -65,6 +66,24 @@ void set_threads(int threads) {
 #endif
 }
 
+// Each FE body's worst elements: the smallest scaled Jacobian and the shortest L_e (the stable
+// step's length), with where they are.
+void print_quality(const Case& c, const Model& model) {
+  const auto at = [](const Vec3& x) {
+    return "(" + std::to_string(x.x()) + ", " + std::to_string(x.y()) + ", " +
+           std::to_string(x.z()) + ") m";
+  };
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    if (c.bodies[b].method != Method::Fem)
+      continue;
+    const HexQuality q = hex_quality(model, static_cast<int>(b));
+    std::cerr << "mesh: " << c.bodies[b].name << ": " << q.elements
+              << " hexahedra, smallest scaled Jacobian " << q.scaled_jacobian << " at "
+              << at(q.worst_jacobian_at) << ", shortest L_e " << q.length << " m at "
+              << at(q.shortest_at) << "\n";
+  }
+}
+
 // Meshes the case and writes OUT/model.h5 and OUT/model.vtu.
 Model mesh_and_write(const Case& c, const fs::path& out, bool quiet) {
   Model model = mesh_case(c);
@@ -72,10 +91,12 @@ Model mesh_and_write(const Case& c, const fs::path& out, bool quiet) {
   write_model_h5(model, out / "model.h5");
   write_model_vtu(model, out / "model.vtu");
   write_particles_vtu(model, out / "model_particles.vtu");
-  if (!quiet)
+  if (!quiet) {
     std::cerr << "mesh: " << model.node_count() << " nodes, " << model.element_count()
               << " hexahedra, " << model.particle_count() << " particles → "
               << (out / "model.h5").string() << ", " << (out / "model.vtu").string() << "\n";
+    print_quality(c, model);
+  }
   return model;
 }
 

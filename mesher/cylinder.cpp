@@ -150,6 +150,8 @@ void name_faces(const std::string& body, const OGrid& o) {
   }
 }
 
+} // namespace
+
 // A right-handed frame whose third axis is `axis`; the identity for +z.
 Mat3 frame_along(const Vec3& axis) {
   const Vec3 a = axis.normalized();
@@ -162,8 +164,6 @@ Mat3 frame_along(const Vec3& axis) {
   return r;
 }
 
-} // namespace
-
 Placement build_cylinder(const BodySpec& body) {
   const CylinderGeometry& g = body.geometry.cylinder;
   SPHFEM_CHECK(g.radius > 0 && std::isfinite(g.radius), "cylinder radius must be positive");
@@ -173,6 +173,8 @@ Placement build_cylinder(const BodySpec& body) {
   // The quarter's cut faces lie on the planes x = base.x and y = base.y.
   SPHFEM_CHECK(!quarter || (g.axis.z() > 0 && g.axis.head<2>().norm() <= 1e-12 * g.axis.z()),
                "a quarter cylinder's axis must be along +z, got ", g.axis.transpose());
+  if (g.nose.shape != NoseGeometry::Shape::Flat)
+    return build_nosed_cylinder(body); // mesher/nose.cpp
   const OGrid o = plan(g, body.element_size);
 
   gmsh::vectorpair disk, extruded;

@@ -7,22 +7,30 @@
 #include "solver/io/case.hpp"
 #include "solver/state/model.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace sphfem::mesher {
 
 // Where the body's meshing frame sits in space: x = rotation · x_local + origin.
+// `finish`, if set, adjusts the generated mesh in place before it is read (a nose's surface
+// nodes moved onto the nose, mesher/nose.cpp).
 struct Placement {
   Mat3 rotation = Mat3::Identity();
   Vec3 origin = Vec3::Zero();
+  std::function<void()> finish;
 };
 
 // Build the body in gmsh's current (empty) model, ready for generate(3): transfinite and
 // recombination constraints set, faces added as physical surfaces "<body>/<face>".
 Placement build_box(const BodySpec& body);
 Placement build_cylinder(const BodySpec& body);
+Placement build_nosed_cylinder(const BodySpec& body); // a cylinder whose nose is not flat
 Placement build_ring(const BodySpec& body);
+
+// A right-handed frame whose third axis is `axis`; the identity for +z.
+Mat3 frame_along(const Vec3& axis);
 
 // Number of element layers for `length` at `element_size`: max(1, round(length / size)).
 int divisions(double length, double element_size);

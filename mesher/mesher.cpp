@@ -85,6 +85,8 @@ void mesh_body(Model& model, const Case& c, const BodySpec& body, int body_id) {
     gmsh::model::add(body.name);
     const mesher::Placement placement = build_body(body);
     gmsh::model::mesh::generate(3);
+    if (placement.finish)
+      placement.finish();
     mesher::append_mesh(model, body_id, placement);
     model.spacing_b.push_back(0);
   } catch (const std::string& gmsh_error) {
@@ -134,6 +136,21 @@ std::string sector_name(Sector sector) {
   return sector == Sector::Quarter ? "quarter" : "full";
 }
 
+// A pointed nose's shape and parameters; empty for a flat one (so flat cylinders keep their text).
+std::string nose_signature(const NoseGeometry& nose) {
+  switch (nose.shape) {
+  case NoseGeometry::Shape::Flat:
+    return "";
+  case NoseGeometry::Shape::Hemispherical:
+    return " nose=hemispherical";
+  case NoseGeometry::Shape::Conical:
+    return " nose=conical length=" + exact(nose.length);
+  case NoseGeometry::Shape::Ogival:
+    return " nose=ogival crh=" + exact(nose.crh);
+  }
+  return "";
+}
+
 // A full cylinder keeps the text it had before quarters existed.
 std::string geometry_signature(const GeometrySpec& g) {
   switch (g.kind) {
@@ -142,7 +159,8 @@ std::string geometry_signature(const GeometrySpec& g) {
   case GeometrySpec::Kind::Cylinder:
     return "cylinder base=" + exact(g.cylinder.base) + " axis=" + exact(g.cylinder.axis) +
            " radius=" + exact(g.cylinder.radius) +
-           (g.cylinder.sector == Sector::Quarter ? " sector=quarter" : "");
+           (g.cylinder.sector == Sector::Quarter ? " sector=quarter" : "") +
+           nose_signature(g.cylinder.nose);
   case GeometrySpec::Kind::Ring:
     return "ring base=" + exact(g.ring.base) + " half_width=" + exact(g.ring.half_width) +
            " radius=" + exact(g.ring.radius) + " thickness=" + exact(g.ring.thickness) +

@@ -17,6 +17,8 @@ namespace sphfem {
 //   Cylinder: an O-grid (square core + 4 ring blocks) extruded along the axis, faces base
 //   (at `base`), top, side; a quarter (axis along +z) an O-grid of its quadrant x, y ≥ base
 //   (core square + 2 ring blocks), faces base, top, side, xmin, ymin (mesher/cylinder.cpp).
+//   A cylinder with a pointed nose (hemispherical, conical, ogival; its tip at `base`) continues
+//   the O-grid through the nose in four blocks a quadrant, face base the nose (mesher/nose.cpp).
 //   Ring: 45° sectors around the square hole (8, a quarter 2), n_s = round(a / element_size)
 //   hexes along each sector's piece of the hole side and rim arc, radially graded from
 //   element_size at the hole to about rim_element_size at the rim, round(t / element_size)

@@ -1,11 +1,26 @@
-// Look-ups by name on a validated Case.
+// Look-ups by name on a validated Case, and the nose's length.
 #include "solver/io/case.hpp"
 
 #include "solver/core/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace sphfem {
+
+double NoseGeometry::nose_length(double radius) const {
+  switch (shape) {
+  case Shape::Flat:
+    return 0;
+  case Shape::Hemispherical:
+    return radius;
+  case Shape::Conical:
+    return length;
+  case Shape::Ogival:
+    return radius * std::sqrt(4 * crh - 1);
+  }
+  return 0;
+}
 
 const MaterialSpec& Case::material(const std::string& name) const {
   const auto found = std::ranges::find(materials, name, &MaterialSpec::name);

@@ -39,12 +39,29 @@ struct BoxGeometry {
 // quarter models with symmetry planes on its cut faces xmin and ymin.
 enum class Sector { Full, Quarter };
 
-// A circular cylinder: base centre, axis vector (its length is the cylinder's length), radius.
+// A projectile's nose at a cylinder's base (FE only; mesher/nose.cpp): flat (the plain
+// cylinder), or a solid of revolution ending in a point on the axis at `base`, tangent to the
+// cylinder where it meets it except the cone: hemispherical (its length is the radius), conical
+// (`length` from tip to shoulder), ogival (a tangent ogive of calibre-radius-head `crh`, its arc
+// radius crh × the diameter, its length R √(4 crh − 1)).
+struct NoseGeometry {
+  enum class Shape { Flat, Hemispherical, Conical, Ogival };
+  Shape shape = Shape::Flat;
+  double length = 0; // m, conical
+  double crh = 0;    // ogival, ≥ 0.5 (0.5 is the hemisphere)
+
+  // The nose's length along the axis, m (0 when flat).
+  double nose_length(double radius) const;
+};
+
+// A circular cylinder: base centre, axis vector (its length is the cylinder's length, the nose
+// included), radius.
 struct CylinderGeometry {
   Vec3 base = Vec3::Zero();
   Vec3 axis = Vec3::UnitZ();
   double radius = 0;
   Sector sector = Sector::Full; // Quarter: FE bodies only
+  NoseGeometry nose{};          // flat unless given (FE only)
 };
 
 // A plate ring (FE only): the plate z ∈ [base.z, base.z + thickness] between the square hole

@@ -53,6 +53,8 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   SPHFEM_CHECK(0.5 * s.clamped_diameter > std::numbers::sqrt2 * a,
                "plate.clamped_diameter: the clamped circle must enclose the SPH core's corners (",
                2 * std::numbers::sqrt2 * a, " m across), got ", s.clamped_diameter, " m");
+  SPHFEM_CHECK(s.nose.nose_length(radius) < s.length, "projectile.length: ", s.length,
+               " m must exceed the nose's length ", s.nose.nose_length(radius), " m");
   SPHFEM_CHECK(dp <= a && dp <= t, "core.spacing: ", dp,
                " m is coarser than the core's half-width or the plate's thickness");
   // The lattice has round(2a/Δp) cells across the whole core, the ring round(a/Δp) per half side.
@@ -88,7 +90,7 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
 
   BodySpec projectile = fem_body("projectile", s.projectile_material, element);
   projectile.geometry.kind = GeometrySpec::Kind::Cylinder;
-  projectile.geometry.cylinder = {Vec3(0, 0, gap), Vec3(0, 0, s.length), radius, sector};
+  projectile.geometry.cylinder = {Vec3(0, 0, gap), Vec3(0, 0, s.length), radius, sector, s.nose};
   projectile.h_factor = s.projectile_h_factor;
   projectile.velocity = Vec3(0, 0, -s.velocity);
 
@@ -143,12 +145,29 @@ void read_plate_impact(const CaseNode& root, Case& c) {
   });
 
   const CaseNode projectile = root.required("projectile", "diameter, length, material, velocity");
-  projectile.check_keys({"diameter", "length", "nose", "material", "velocity", "gap",
-                         "element_size", "h_factor", "contact"});
+  projectile.check_keys({"diameter", "length", "nose", "nose_length", "crh", "material", "velocity",
+                         "gap", "element_size", "h_factor", "contact"});
   s.diameter = projectile.required("diameter", "m").number("> 0 m", positive);
   s.length = projectile.required("length", "m").number("> 0 m", positive);
-  if (const CaseNode nose = projectile.child("nose"); nose.defined())
-    nose.one_of({"blunt"}, "nose shape (only blunt is modelled)");
+  using Shape = NoseGeometry::Shape;
+  if (const CaseNode nose = projectile.child("nose"); nose.defined()) {
+    const std::string shape = nose.one_of({"blunt", "hemispherical", "conical", "ogival"}, "nose");
+    s.nose.shape = shape == "hemispherical" ? Shape::Hemispherical
+                   : shape == "conical"     ? Shape::Conical
+                   : shape == "ogival"      ? Shape::Ogival
+                                            : Shape::Flat;
+  }
+  const CaseNode nose_length = projectile.child("nose_length"), crh = projectile.child("crh");
+  if (s.nose.shape == Shape::Conical)
+    s.nose.length = projectile.required("nose_length", "the cone's length, tip to shoulder, m")
+                        .number("> 0 m", positive);
+  else if (nose_length.defined())
+    nose_length.fail(nose_length.path(), "only for nose: conical");
+  if (s.nose.shape == Shape::Ogival)
+    s.nose.crh = projectile.required("crh", "the ogive's calibre-radius-head")
+                     .number(">= 0.5 (0.5 is a hemisphere)", [](double v) { return v >= 0.5; });
+  else if (crh.defined())
+    crh.fail(crh.path(), "only for nose: ogival");
   s.projectile_material =
       projectile.required("material", "name of a material").one_of(material_names, "material");
   s.velocity = projectile.required("velocity", "impact speed towards the plate, m/s")

@@ -1,13 +1,14 @@
 // The plate perforation scene (`scene: plate_impact`, DESIGN.md "Case file"; solver/scenes/
-// scene.hpp): a blunt cylindrical projectile strikes the centre of a circular plate clamped at
-// its rim. The case states a few physical parameters in its `preset`, `symmetry`, `plate`,
-// `core` and `projectile` blocks; read_plate_impact() reads them into a PlateImpactSpec and
-// expand_plate_impact() turns that into ordinary bodies, couplings and boundary conditions
-// (METHOD.md §4):
+// scene.hpp): a cylindrical projectile — blunt, or with a hemispherical, conical or ogival nose
+// (mesher/nose.cpp) — strikes the centre of a circular plate clamped at its rim. The case states a
+// few physical parameters in its `preset`, `symmetry`, `plate`, `core` and `projectile` blocks;
+// read_plate_impact() reads them into a PlateImpactSpec and expand_plate_impact() turns that into
+// ordinary bodies, couplings and boundary conditions (METHOD.md §4):
 //   plate_core  SPH box |x|, |y| ≤ a through the thickness, lattice on nodes (spacing Δp);
 //   plate_ring  FE ring around it (RingGeometry), Δp at the core, graded to the clamped rim;
 //               attached to plate_core (its interface nodes coincide with the lattice's);
-//   projectile  FE cylinder, its base `gap` above the plate, velocity −v ẑ; in contact with
+//   projectile  FE cylinder, its base (a nose's tip) `gap` above the plate, velocity −v ẑ; in
+//   contact with
 //               plate_core (a surface contact unless the case names the kernel one); by default
 //               the gap is a quarter element beyond where the contact starts: the core's
 //               spheres (Δp/2 above its top layer) or the kernel's reach h_core + h_projectile;
@@ -45,6 +46,7 @@ struct PlateImpactSpec {
   std::optional<double> gap;          // m, else just beyond the contact's reach
   std::optional<double> element_size; // m, else the preset's
   double projectile_h_factor = 1.2;   // its contact face's background particles
+  NoseGeometry nose;                  // blunt (flat) unless given; its tip `gap` above the plate
   std::string projectile_material;
   ContactSpec contact; // its law (model, penalty, exponent, friction); the bodies are set here
 };

@@ -105,6 +105,19 @@ TEST(PlateImpactScene, ExpandsIntoCoreRingAndProjectile) {
 // penalty defaults to the softer P-wave modulus E (1 − ν)/((1 + ν)(1 − 2ν)) of the two materials
 // (both 200 GPa, ν 0.33 here: 296.3 GPa), and it starts a quarter element beyond the top of the
 // core's contact spheres, Δp/2 above the plate: 1 + 0.5 mm at 2 mm.
+TEST(PlateImpactScene, NosesGoToTheProjectilesCylinder) {
+  const Case blunt = scene();
+  EXPECT_EQ(body(blunt, "projectile").geometry.cylinder.nose.shape, NoseGeometry::Shape::Flat);
+  const Case ogive = scene({"projectile.nose=ogival", "projectile.crh=3"});
+  const CylinderGeometry& g = body(ogive, "projectile").geometry.cylinder;
+  EXPECT_EQ(g.nose.shape, NoseGeometry::Shape::Ogival);
+  EXPECT_DOUBLE_EQ(g.nose.crh, 3.0);
+  // The tip starts where the blunt face did: the gap is measured from the nose's tip.
+  EXPECT_DOUBLE_EQ(g.base.z(), body(blunt, "projectile").geometry.cylinder.base.z());
+  const Case cone = scene({"projectile.nose=conical", "projectile.nose_length=0.015"});
+  EXPECT_DOUBLE_EQ(body(cone, "projectile").geometry.cylinder.nose.length, 0.015);
+}
+
 TEST(PlateImpactScene, SurfaceContactIsTheDefault) {
   std::string text = kScene;
   const std::string kernel = "  contact: {model: kernel, penalty: 1.0e11, exponent: 2}\n";
@@ -165,7 +178,20 @@ TEST(PlateImpactScene, BadScenesAreNamed) {
   EXPECT_NE(error_of({"projectile.gap=0.002"}).find("projectile.gap"), std::string::npos)
       << error_of({"projectile.gap=0.002"});
   EXPECT_NE(error_of({"projectile.velocity=-10"}).find("projectile.velocity"), std::string::npos);
-  EXPECT_NE(error_of({"projectile.nose=ogive"}).find("only blunt"), std::string::npos);
+  EXPECT_NE(error_of({"projectile.nose=ogive"})
+                .find("unknown nose 'ogive' (expected one of: blunt, hemispherical, conical, "
+                      "ogival)"),
+            std::string::npos)
+      << error_of({"projectile.nose=ogive"});
+  EXPECT_NE(error_of({"projectile.nose=conical"}).find("projectile.nose_length: missing key"),
+            std::string::npos)
+      << error_of({"projectile.nose=conical"});
+  EXPECT_NE(error_of({"projectile.crh=3"}).find("projectile.crh: only for nose: ogival"),
+            std::string::npos)
+      << error_of({"projectile.crh=3"});
+  EXPECT_NE(error_of({"projectile.nose=conical", "projectile.nose_length=0.09"})
+                .find("must exceed the nose's length"),
+            std::string::npos);
   EXPECT_NE(error_of({"plate.clamped_diameter=0.05"}).find("plate.clamped_diameter"),
             std::string::npos);
   EXPECT_NE(error_of({"core.spacing=0.0032"}).find("ends in .5"), std::string::npos)
