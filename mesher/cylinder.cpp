@@ -3,9 +3,10 @@
 // each the core square [0, c]² (c = R/2) turned into it and two ring blocks over its 45° halves
 // (12 blocks); a quarter (axis along +z only) is the first quadrant alone, x, y ≥ base (3 blocks),
 // with faces xmin (x = base.x) and ymin (y = base.y) as well, and its mesh is exactly the
-// quadrant of the whole cylinder's. Counts: n = round(c / h) elements along each core half-side
-// and each 45° rim arc, radially round((R − c(1 + √2)/2) / h), along the axis round(L/h), each at
-// least 1. Verified by tests/mesher/mesher_test.cpp.
+// quadrant of the whole cylinder's; a half (axis in the x–z plane) the first two quadrants, its
+// local y ≥ 0 placed on the world's y ≥ base.y (6 blocks), with face ymin. Counts: n = round(c / h)
+// elements along each core half-side and each 45° rim arc, radially round((R − c(1 + √2)/2) / h),
+// along the axis round(L/h), each at least 1. Verified by tests/mesher/mesher_test.cpp.
 #include "mesher/gmsh_body.hpp"
 #include "solver/core/error.hpp"
 
@@ -26,7 +27,7 @@ namespace geo = gmsh::model::geo;
 // across the ring, `layers` along the axis.
 struct OGrid {
   double radius = 0, core = 0, length = 0; // core: half-width of the square core
-  bool quarter = false;
+  Sector sector = Sector::Full;
   int along = 1, radial = 1, layers = 1;
 };
 
@@ -35,7 +36,7 @@ OGrid plan(const CylinderGeometry& g, double h) {
   o.radius = g.radius;
   o.length = g.axis.norm();
   o.core = 0.5 * g.radius;
-  o.quarter = g.sector == Sector::Quarter;
+  o.sector = g.sector;
   // Core elements of size h (the arcs' are π/4 · R / c ≈ 1.57 times longer): the core sets the
   // stable time step, and the flat nose that meets the target is mostly core.
   o.along = divisions(o.core, h);
@@ -45,7 +46,7 @@ OGrid plan(const CylinderGeometry& g, double h) {
   return o;
 }
 
-// The disk at z = 0 as `quadrants` (4: whole, 1: the quarter x, y ≥ 0) counter-clockwise from
+// The disk at z = 0 as `quadrants` (4: whole, 2: the half y ≥ 0, 1: the quarter x, y ≥ 0) from
 // +x, each three quadrilateral surfaces: the core square [0, c]² turned into it and the ring
 // blocks over its first and second 45°; neighbouring quadrants share their points and curves on
 // the axis between them. So the whole disk is four copies of the quarter, turned, and a quarter
@@ -54,7 +55,7 @@ std::vector<int> build_disk(const OGrid& o, int quadrants) {
   const double c = o.core, r = o.radius, d = 1 / std::numbers::sqrt2;
   static constexpr std::array<double, 4> cx{1, 0, -1, 0}, cy{0, 1, 0, -1}; // 0°, 90°, …
   const int centre = geo::addPoint(0, 0, 0);
-  const int rays = quadrants == 4 ? 4 : 2; // the axes bounding the quadrants
+  const int rays = quadrants == 4 ? 4 : quadrants + 1; // the axes bounding the quadrants
   std::array<int, 4> core_on_axis{}, rim_on_axis{}, centre_line{}, axis_spoke{};
   for (int k = 0; k < rays; ++k) {
     core_on_axis[k] = geo::addPoint(c * cx[k], c * cy[k], 0);
@@ -119,7 +120,7 @@ void make_structured(const OGrid& o) {
 }
 
 // Boundary surfaces (bounding one volume) by where their corners lie: at z = 0 the base, at
-// z = L the top, on the planes x = 0 and y = 0 (quarter) xmin and ymin; the rest is the side.
+// z = L the top, on the planes x = 0 and y = 0 (cut sectors) xmin and ymin; the rest the side.
 void name_faces(const std::string& body, const OGrid& o) {
   const double tol = 1e-9 * std::max(o.radius, o.length);
   const auto all = [](const std::vector<Vec3>& x, auto on) { return std::ranges::all_of(x, on); };
@@ -136,18 +137,25 @@ void name_faces(const std::string& body, const OGrid& o) {
     else
       side.push_back(surface);
   }
-  const std::size_t blocks = o.quarter ? 3 : 12, arcs = o.quarter ? 2 : 8, cut = o.quarter ? 2 : 0;
+  const std::size_t quadrants = quadrant_count(o.sector), blocks = 3 * quadrants,
+                    arcs = 2 * quadrants;
+  // Each cut ray carries two faces (the core's and the ring's): a quarter's rays on x = 0 and
+  // y = 0, a half's two rays on y = 0.
+  const std::size_t x_cut = o.sector == Sector::Quarter ? 2 : 0,
+                    y_cut = o.sector == Sector::Full   ? 0
+                            : o.sector == Sector::Half ? 4
+                                                       : 2;
   SPHFEM_CHECK(base.size() == blocks && top.size() == blocks && side.size() == arcs &&
-                   xmin.size() == cut && ymin.size() == cut,
+                   xmin.size() == x_cut && ymin.size() == y_cut,
                "unexpected cylinder boundary (", base.size(), " base, ", top.size(), " top, ",
                side.size(), " side, ", xmin.size(), " xmin, ", ymin.size(), " ymin surfaces)");
   add_named_face(body + "/base", base);
   add_named_face(body + "/top", top);
   add_named_face(body + "/side", side);
-  if (o.quarter) {
+  if (x_cut > 0)
     add_named_face(body + "/xmin", xmin);
+  if (y_cut > 0)
     add_named_face(body + "/ymin", ymin);
-  }
 }
 
 } // namespace
@@ -164,27 +172,53 @@ Mat3 frame_along(const Vec3& axis) {
   return r;
 }
 
+int quadrant_count(Sector sector) {
+  return sector == Sector::Full ? 4 : sector == Sector::Half ? 2 : 1;
+}
+
+Mat3 sector_rotation(Sector sector, const Vec3& axis) {
+  switch (sector) {
+  case Sector::Quarter:
+    return Mat3::Identity();
+  case Sector::Half: { // local y stays the world's y: a turn about y
+    const Vec3 a = axis.normalized(), e1 = Vec3::UnitY().cross(a);
+    Mat3 r;
+    r << e1, Vec3::UnitY(), a;
+    return r;
+  }
+  case Sector::Full:
+    break;
+  }
+  return frame_along(axis);
+}
+
+void check_sector_axis(Sector sector, const Vec3& axis) {
+  SPHFEM_CHECK(sector != Sector::Quarter ||
+                   (axis.z() > 0 && axis.head<2>().norm() <= 1e-12 * axis.z()),
+               "a quarter cylinder's axis must be along +z, got ", axis.transpose());
+  SPHFEM_CHECK(sector != Sector::Half || std::abs(axis.y()) <= 1e-12 * axis.norm(),
+               "a half cylinder's axis must lie in the x–z plane, got ", axis.transpose());
+}
+
 Placement build_cylinder(const BodySpec& body) {
   const CylinderGeometry& g = body.geometry.cylinder;
   SPHFEM_CHECK(g.radius > 0 && std::isfinite(g.radius), "cylinder radius must be positive");
   SPHFEM_CHECK(g.axis.allFinite() && g.axis.norm() > 0, "cylinder axis must be non-zero");
   SPHFEM_CHECK(g.base.allFinite(), "cylinder base must be finite");
-  const bool quarter = g.sector == Sector::Quarter;
-  // The quarter's cut faces lie on the planes x = base.x and y = base.y.
-  SPHFEM_CHECK(!quarter || (g.axis.z() > 0 && g.axis.head<2>().norm() <= 1e-12 * g.axis.z()),
-               "a quarter cylinder's axis must be along +z, got ", g.axis.transpose());
+  // The cut faces lie on the planes x = base.x and y = base.y.
+  check_sector_axis(g.sector, g.axis);
   if (g.nose.shape != NoseGeometry::Shape::Flat)
     return build_nosed_cylinder(body); // mesher/nose.cpp
   const OGrid o = plan(g, body.element_size);
 
   gmsh::vectorpair disk, extruded;
-  for (const int s : build_disk(o, quarter ? 1 : 4))
+  for (const int s : build_disk(o, quadrant_count(g.sector)))
     disk.emplace_back(2, s);
   geo::extrude(disk, 0, 0, o.length, extruded);
   geo::synchronize();
   make_structured(o);
   name_faces(body.name, o);
-  return {quarter ? Mat3::Identity() : frame_along(g.axis), g.base};
+  return {sector_rotation(g.sector, g.axis), g.base};
 }
 
 } // namespace sphfem::mesher

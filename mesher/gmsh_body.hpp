@@ -19,7 +19,7 @@ namespace sphfem::mesher {
 struct Placement {
   Mat3 rotation = Mat3::Identity();
   Vec3 origin = Vec3::Zero();
-  std::function<void()> finish;
+  std::function<void()> finish{};
 };
 
 // Build the body in gmsh's current (empty) model, ready for generate(3): transfinite and
@@ -31,6 +31,14 @@ Placement build_ring(const BodySpec& body);
 
 // A right-handed frame whose third axis is `axis`; the identity for +z.
 Mat3 frame_along(const Vec3& axis);
+
+// A round body's sectors: 4 quadrants (full), 2 (half, y ≥ 0), 1 (quarter, x, y ≥ 0); the
+// rotation that places its local frame (axis +z) on `axis` keeping the cut planes where they
+// are (a quarter: the identity; a half: a turn about y); a clear error for an axis a sector
+// cannot take (a quarter's along +z, a half's in the x–z plane).
+int quadrant_count(Sector sector);
+Mat3 sector_rotation(Sector sector, const Vec3& axis);
+void check_sector_axis(Sector sector, const Vec3& axis);
 
 // Number of element layers for `length` at `element_size`: max(1, round(length / size)).
 int divisions(double length, double element_size);

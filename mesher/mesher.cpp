@@ -133,7 +133,7 @@ std::string content_hash(const std::filesystem::path& file) {
 }
 
 std::string sector_name(Sector sector) {
-  return sector == Sector::Quarter ? "quarter" : "full";
+  return sector == Sector::Quarter ? "quarter" : sector == Sector::Half ? "half" : "full";
 }
 
 // A pointed nose's shape and parameters; empty for a flat one (so flat cylinders keep their text).
@@ -159,7 +159,7 @@ std::string geometry_signature(const GeometrySpec& g) {
   case GeometrySpec::Kind::Cylinder:
     return "cylinder base=" + exact(g.cylinder.base) + " axis=" + exact(g.cylinder.axis) +
            " radius=" + exact(g.cylinder.radius) +
-           (g.cylinder.sector == Sector::Quarter ? " sector=quarter" : "") +
+           (g.cylinder.sector == Sector::Full ? "" : " sector=" + sector_name(g.cylinder.sector)) +
            nose_signature(g.cylinder.nose);
   case GeometrySpec::Kind::Ring:
     return "ring base=" + exact(g.ring.base) + " half_width=" + exact(g.ring.half_width) +

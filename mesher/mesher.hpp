@@ -16,14 +16,16 @@ namespace sphfem {
 //   Box: n_i = max(1, round(L_i / element_size)) hexes per direction, faces xmin … zmax.
 //   Cylinder: an O-grid (square core + 4 ring blocks) extruded along the axis, faces base
 //   (at `base`), top, side; a quarter (axis along +z) an O-grid of its quadrant x, y ≥ base
-//   (core square + 2 ring blocks), faces base, top, side, xmin, ymin (mesher/cylinder.cpp).
+//   (core square + 2 ring blocks), faces base, top, side, xmin, ymin; a half (axis in the x–z
+//   plane) its two quadrants y ≥ base, face ymin (mesher/cylinder.cpp).
 //   A cylinder with a pointed nose (hemispherical, conical, ogival; its tip at `base`) continues
 //   the O-grid through the nose in four blocks a quadrant, face base the nose (mesher/nose.cpp).
-//   Ring: 45° sectors around the square hole (8, a quarter 2), n_s = round(a / element_size)
-//   hexes along each sector's piece of the hole side and rim arc, radially graded from
+//   Ring: 45° sectors around the square hole (8, a half 4, a quarter 2),
+//   n_s = round(a / element_size) hexes along each sector's piece of the hole side and rim arc, radially graded from
 //   element_size at the hole to about rim_element_size at the rim, round(t / element_size)
 //   layers; the hole's nodes are those of a `lattice: nodes` SPH box of spacing element_size
-//   filling it. Faces inner, rim, bottom, top (a quarter also xmin, ymin) (mesher/ring.cpp).
+//   filling it. Faces inner, rim, bottom, top (a half also ymin, a quarter xmin, ymin)
+//   (mesher/ring.cpp).
 //   Hexes have positive volume in gmsh order; face-set quads have outward right-hand normals.
 // SPH bodies become particles on a cubic lattice of spacing Δp (rules in mesher/lattice.cpp):
 // a box is tiled exactly, its particles at the cell centres (lattice centred) or on the nodes of

@@ -17,7 +17,8 @@
 // fillings bounded by its meridians (circle arcs about the sphere's or the ogive's centre, lines
 // on a cone) and parallels (circle arcs about the axis); a hemisphere's are spherical, a cone's
 // and an ogive's lie within a few µm of the surface at these sizes (Coons patches between its
-// meridians). Faces: base (the nose), top, side (the shank), a quarter also xmin and ymin.
+// meridians). Faces: base (the nose), top, side (the shank), a half also ymin, a quarter xmin
+// and ymin.
 // Verified by tests/mesher/nose_test.cpp.
 #include "mesher/gmsh_body.hpp"
 #include "solver/core/error.hpp"
@@ -38,27 +39,15 @@ using Shape = NoseGeometry::Shape;
 
 // The nose's meridian: radius r(z) from the tip (z = 0) to the shoulder (z = Ln, r = R).
 struct Profile {
+  NoseGeometry nose;
   Shape shape;
   double radius, length;
   double ogive = 0; // the ogive's arc radius ρ = crh × 2R
 
-  Profile(const NoseGeometry& nose, double r)
-      : shape(nose.shape), radius(r), length(nose.nose_length(r)), ogive(2 * nose.crh * r) {}
+  Profile(const NoseGeometry& n, double r)
+      : nose(n), shape(n.shape), radius(r), length(n.nose_length(r)), ogive(2 * n.crh * r) {}
 
-  double r(double z) const {
-    switch (shape) {
-    case Shape::Hemispherical:
-      return std::sqrt(std::max(0.0, radius * radius - (radius - z) * (radius - z)));
-    case Shape::Conical:
-      return radius * z / length;
-    case Shape::Ogival:
-      return std::sqrt(std::max(0.0, ogive * ogive - (length - z) * (length - z))) -
-             (ogive - radius);
-    case Shape::Flat:
-      break;
-    }
-    return radius;
-  }
+  double r(double z) const { return nose.radius_at(z, radius); }
 
   // The height where the radius is `target` (r grows monotonically from the tip): bisection.
   double z_at(double target) const {
@@ -145,7 +134,7 @@ struct Plan {
   double lower_diagonal = 0;                         // its height on the diagonals
   double inner_mid = 0, inner_corner = 0;            // heights of the core's bottom
   int along = 1, radial = 1, down = 1, layers = 1;
-  bool quarter = false;
+  Sector sector = Sector::Full;
 };
 
 Plan plan(const CylinderGeometry& g, const Profile& p, double h) {
@@ -154,7 +143,7 @@ Plan plan(const CylinderGeometry& g, const Profile& p, double h) {
   o.core = 0.5 * g.radius;
   o.length = g.axis.norm();
   o.nose = p.length;
-  o.quarter = g.sector == Sector::Quarter;
+  o.sector = g.sector;
   o.lower_radius = 0.6 * g.radius;
   o.lower = p.z_at(o.lower_radius);
   // The lower curve rises from the axes to the diagonals by tan 30° × its 45° of parallel, so
@@ -182,7 +171,7 @@ Plan plan(const CylinderGeometry& g, const Profile& p, double h) {
 // the plane z = Ln), which the shank is extruded from.
 std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
   const double c = o.core, R = o.radius, Ln = o.nose, rl = o.lower_radius, cl = 0.5 * rl;
-  const int quadrants = o.quarter ? 1 : 4, rays = o.quarter ? 2 : 4;
+  const int quadrants = quadrant_count(o.sector), rays = quadrants == 4 ? 4 : quadrants + 1;
   const double ogive_offset = p.ogive - R; // the ogive's centre lies this far beyond the axis
 
   const int shoulder = b.point(Vec3(0, 0, Ln)), bottom = b.point(Vec3(0, 0, o.inner_mid)),
@@ -283,7 +272,7 @@ std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
   return top;
 }
 
-// Boundary surfaces by where their corners lie: the top (z = L), the cut planes of a quarter
+// Boundary surfaces by where their corners lie: the top (z = L), the cut planes of a sector
 // (x = 0, y = 0), the shank's side (r = R at or above the shoulder); the rest is the nose.
 void name_faces(const std::string& body, const Plan& o) {
   const double tol = 1e-9 * std::max(o.radius, o.length);
@@ -303,19 +292,25 @@ void name_faces(const std::string& body, const Plan& o) {
     else
       base.push_back(surface);
   }
-  const std::size_t patches = o.quarter ? 3 : 12, arcs = o.quarter ? 2 : 8;
-  const std::size_t cut = o.quarter ? 2 * (3 + 2) : 0; // per cut plane 3 nose, 2 shank faces
+  // Each cut ray carries five faces: the core's, the shell's and the cap's in the nose, the
+  // core's and the ring's in the shank. A quarter cuts on x = 0 and y = 0, a half twice on y = 0.
+  const std::size_t quadrants = quadrant_count(o.sector), patches = 3 * quadrants,
+                    arcs = 2 * quadrants;
+  const std::size_t x_cut = o.sector == Sector::Quarter ? 5 : 0,
+                    y_cut = o.sector == Sector::Full   ? 0
+                            : o.sector == Sector::Half ? 10
+                                                       : 5;
   SPHFEM_CHECK(base.size() == patches && top.size() == patches && side.size() == arcs &&
-                   xmin.size() + ymin.size() == cut,
+                   xmin.size() == x_cut && ymin.size() == y_cut,
                "unexpected nosed cylinder boundary (", base.size(), " nose, ", top.size(), " top, ",
                side.size(), " side, ", xmin.size(), " xmin, ", ymin.size(), " ymin surfaces)");
   add_named_face(body + "/base", base);
   add_named_face(body + "/top", top);
   add_named_face(body + "/side", side);
-  if (o.quarter) {
+  if (x_cut > 0)
     add_named_face(body + "/xmin", xmin);
+  if (y_cut > 0)
     add_named_face(body + "/ymin", ymin);
-  }
 }
 
 } // namespace
@@ -327,6 +322,7 @@ Placement build_nosed_cylinder(const BodySpec& body) {
                "the nose's length must be positive, got ", profile.length, " m");
   SPHFEM_CHECK(g.axis.norm() > profile.length, "the cylinder (", g.axis.norm(),
                " m) must be longer than its nose (", profile.length, " m)");
+  check_sector_axis(g.sector, g.axis);
   const Plan o = plan(g, profile, body.element_size);
   Blocks blocks;
   const std::vector<int> shoulder = build_nose(o, profile, blocks);
@@ -369,7 +365,7 @@ Placement build_nosed_cylinder(const BodySpec& body) {
       }
     }
   };
-  return {o.quarter ? Mat3::Identity() : frame_along(g.axis), g.base, snap};
+  return {sector_rotation(g.sector, g.axis), g.base, snap};
 }
 
 } // namespace sphfem::mesher

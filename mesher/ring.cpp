@@ -1,11 +1,12 @@
 // Structured hex mesh of a plate ring (RingGeometry): the O-grid around a square hole that an SPH
 // core fills. In plan the ring is cut by the rays at k·45° from the vertical axis through `base`
-// into 45° sectors (full ring: the 8 sectors k = 0 … 7; quarter: the 2 between 0° and 90°, so its
-// mesh is exactly the x ≥ base.x, y ≥ base.y part of the full ring's). Each sector is a
+// into 45° sectors (full ring: the 8 sectors k = 0 … 7; half: the 4 between 0° and 180°;
+// quarter: the 2 between 0° and 90°, so its mesh is exactly the y ≥ base.y or the x ≥ base.x,
+// y ≥ base.y part of the full ring's). Each sector is a
 // transfinite, recombined quadrilateral between the piece of the hole's side and the 45° rim arc
 // that the two rays cut out, extruded through the thickness in uniform layers; the sectors share
 // their points and curves, so the mesh is conforming. Faces inner (the hole's sides), rim, bottom
-// (z = base.z), top; a quarter also xmin (x = base.x) and ymin (y = base.y).
+// (z = base.z), top; a half also ymin (y = base.y), a quarter xmin (x = base.x) and ymin.
 //
 // Element counts (h = element_size, a = half_width, R = radius, t = thickness):
 //   n_s = max(1, round(a/h)) along each sector's piece of the hole side (length a) and its rim
@@ -25,8 +26,8 @@
 //     1.03–1.04 on the axes, 0.96–0.97 on the diagonals). Inside a sector gmsh's transfinite
 //     interpolation blends the two spokes. The hexes at the hole's corners have a 45° angle in
 //     plan (scaled corner Jacobian 1/√2), as in any O-grid around a square.
-//   hexahedra = sectors · n_s · n_r · layers (sectors = 8 or 2); nodes 8 n_s (n_r + 1)(layers + 1)
-//     for the full ring, (2 n_s + 1)(n_r + 1)(layers + 1) for a quarter.
+//   hexahedra = sectors · n_s · n_r · layers (sectors = 8, 4 or 2); nodes 8 n_s (n_r + 1)(layers +
+//     1) for the full ring, (sectors · n_s + 1)(n_r + 1)(layers + 1) for a half or a quarter.
 // Verified by tests/mesher/ring_test.cpp.
 #include "mesher/gmsh_body.hpp"
 #include "solver/core/error.hpp"
@@ -97,7 +98,7 @@ RingPlan plan(const RingGeometry& g, double h) {
                " m must exceed half_width·√2 = ", std::numbers::sqrt2 * g.half_width,
                " m (the hole's corners) by at least 2 element sizes (", 2 * h, " m)");
   RingPlan p;
-  p.sectors = g.sector == Sector::Full ? 8 : 2;
+  p.sectors = g.sector == Sector::Full ? 8 : g.sector == Sector::Half ? 4 : 2;
   p.along = divisions(g.half_width, h);
   const double cells = g.half_width / h;
   SPHFEM_CHECK(g.sector == Sector::Quarter || std::abs(cells - std::floor(cells) - 0.5) > 1e-6,
@@ -121,7 +122,7 @@ struct Sectors {
 };
 
 Sectors build_sectors(const RingGeometry& g, const RingPlan& p) {
-  const int rays = p.sectors == 8 ? 8 : 3; // the full ring's last sector ends on ray 0
+  const int rays = p.sectors == 8 ? 8 : p.sectors + 1; // the full ring's last ends on ray 0
   const int centre = geo::addPoint(0, 0, 0);
   Sectors s;
   std::vector<int> inner(rays), outer(rays);
@@ -180,9 +181,11 @@ void name_faces(const std::string& body, const RingGeometry& g, const RingPlan& 
     else
       throw Error(detail::concat("ring surface ", surface, " is on no named face"));
   }
-  const std::size_t n = p.sectors, cuts = p.sectors == 8 ? 0 : 1;
+  // The cut planes: a quarter's x = 0 and y = 0 (one face each), a half's y = 0 (two).
+  const std::size_t n = p.sectors, x_cuts = p.sectors == 2 ? 1 : 0;
+  const std::size_t y_cuts = p.sectors == 2 ? 1 : p.sectors == 4 ? 2 : 0;
   SPHFEM_CHECK(inner.size() == n && rim.size() == n && bottom.size() == n && top.size() == n &&
-                   xmin.size() == cuts && ymin.size() == cuts,
+                   xmin.size() == x_cuts && ymin.size() == y_cuts,
                "unexpected ring boundary (", inner.size(), " inner, ", rim.size(), " rim, ",
                bottom.size(), " bottom, ", top.size(), " top, ", xmin.size(), " xmin, ",
                ymin.size(), " ymin surfaces)");
@@ -190,10 +193,10 @@ void name_faces(const std::string& body, const RingGeometry& g, const RingPlan& 
   add_named_face(body + "/rim", rim);
   add_named_face(body + "/bottom", bottom);
   add_named_face(body + "/top", top);
-  if (cuts > 0) {
+  if (x_cuts > 0)
     add_named_face(body + "/xmin", xmin);
+  if (y_cuts > 0)
     add_named_face(body + "/ymin", ymin);
-  }
 }
 
 } // namespace

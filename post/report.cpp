@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
@@ -262,18 +263,47 @@ nlohmann::json perforation_results(const nlohmann::json& summary, const History&
   out["target"] = target;
   out["projectile"] = projectile.empty() ? nlohmann::json() : nlohmann::json(projectile);
   out["impact_axis"] = {axis.x(), axis.y(), axis.z()};
-  double projectile_velocity = 0;
+  Vec3 projectile_velocity = Vec3::Zero();
   if (perforated && !projectile.empty()) {
     const auto& v = summary["bodies"][projectile]["com_velocity"];
-    projectile_velocity =
-        Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()).dot(axis);
+    projectile_velocity = Vec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
   }
   const Fragment plug = r.plug >= 0 ? r.fragments[r.plug] : Fragment{};
-  out["residual_velocity"] = {{"projectile", projectile_velocity},
+  out["residual_velocity"] = {{"projectile", projectile_velocity.dot(axis)},
                               {"plug", r.plug >= 0 ? plug.velocity.dot(axis) : 0.0}};
+  // Where they go: each one's speed, its angle from the impact axis (its deviation from the
+  // line of flight) and, for a plate scene, from the plate's normal −z (an oblique shot's
+  // obliquity in, its exit angle out); null when it does not leave.
+  const Vec3 normal = -Vec3::UnitZ();
+  const auto degrees = [](const Vec3& a, const Vec3& b) {
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 /
+           std::numbers::pi;
+  };
+  // A symmetric model's bodies are parts of whole ones, whose velocities have no component
+  // across the symmetry planes: a quarter's across x = 0 and y = 0, a half's across y = 0.
+  const bool plate = summary.contains("scene");
+  const std::string symmetry =
+      plate ? summary["scene"].value("symmetry", std::string("none")) : std::string("none");
+  const auto whole = [&symmetry](Vec3 v) {
+    if (symmetry == "quarter")
+      v.x() = 0;
+    if (symmetry == "quarter" || symmetry == "half")
+      v.y() = 0;
+    return v;
+  };
+  for (const auto& [name, v] : {std::pair{"projectile", whole(projectile_velocity)},
+                                std::pair{"plug", whole(plug.velocity)}}) {
+    const bool leaves = perforated && v.norm() > 0 && (std::string(name) != "plug" || r.plug >= 0);
+    out["speed"][name] = leaves ? v.norm() : 0.0;
+    out["deviation_deg"][name] = leaves ? nlohmann::json(degrees(v, axis)) : nlohmann::json();
+    if (plate)
+      out["angle_from_normal_deg"][name] =
+          leaves ? nlohmann::json(degrees(v, normal)) : nlohmann::json();
+  }
   out["plug"] = {{"mass", plug.mass}, {"diameter", plug.diameter}, {"thickness", plug.thickness}};
   out["time"] = r.time;
-  out["units"] = {{"velocity", "m/s"}, {"mass", "kg"}, {"length", "m"}, {"time", "s"}};
+  out["units"] = {{"velocity", "m/s"}, {"mass", "kg"}, {"length", "m"}, {"time", "s"},
+                  {"angle", "degrees"}};
   return out;
 }
 

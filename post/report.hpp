@@ -6,7 +6,9 @@
 // With a body of particles the report also writes summary.json's "results" (DESIGN.md):
 // perforated (a plug, post/plug.hpp, has separated), residual_velocity.projectile and .plug
 // (m/s along the impact axis, 0 without perforation; the projectile is the other body with
-// the largest initial momentum along that axis), plug.mass (kg) and its size (m).
+// the largest initial momentum along that axis), plug.mass (kg) and its size (m), and each one's
+// speed (m/s), deviation_deg from the impact axis and, for a plate scene, angle_from_normal_deg
+// from the plate's normal −z (null for what does not leave).
 // A reference file is `reference.csv` in the case's folder (the run records its case file in
 // summary.json), with columns quantity,value,unit,source: quantity is a path into
 // summary.json (`bodies.bar_a.com_velocity.2`, `energy.balance_error`, `results.plug.mass`)

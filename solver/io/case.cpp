@@ -22,6 +22,23 @@ double NoseGeometry::nose_length(double radius) const {
   return 0;
 }
 
+double NoseGeometry::radius_at(double z, double radius) const {
+  const double ln = nose_length(radius);
+  switch (shape) {
+  case Shape::Flat:
+    return radius;
+  case Shape::Hemispherical:
+    return std::sqrt(std::max(0.0, radius * radius - (radius - z) * (radius - z)));
+  case Shape::Conical:
+    return radius * z / ln;
+  case Shape::Ogival: {
+    const double rho = 2 * crh * radius; // the ogive's arc radius, its centre ρ − R beyond the axis
+    return std::sqrt(std::max(0.0, rho * rho - (ln - z) * (ln - z))) - (rho - radius);
+  }
+  }
+  return radius;
+}
+
 const MaterialSpec& Case::material(const std::string& name) const {
   const auto found = std::ranges::find(materials, name, &MaterialSpec::name);
   SPHFEM_CHECK(found != materials.end(), "case '", this->name, "' has no material '", name, "'");

@@ -35,9 +35,10 @@ struct BoxGeometry {
   Vec3 min = Vec3::Zero(), max = Vec3::Zero();
 };
 
-// The whole of a round body, or its quarter x ≥ x_axis, y ≥ y_axis (axis along +z only) for
-// quarter models with symmetry planes on its cut faces xmin and ymin.
-enum class Sector { Full, Quarter };
+// The whole of a round body, its half y ≥ y_axis (FE only; a cylinder's axis in the x–z plane)
+// for half models with a symmetry plane on its cut face ymin, or its quarter x ≥ x_axis,
+// y ≥ y_axis (axis along +z only) for quarter models with symmetry planes on xmin and ymin.
+enum class Sector { Full, Half, Quarter };
 
 // A projectile's nose at a cylinder's base (FE only; mesher/nose.cpp): flat (the plain
 // cylinder), or a solid of revolution ending in a point on the axis at `base`, tangent to the
@@ -52,6 +53,9 @@ struct NoseGeometry {
 
   // The nose's length along the axis, m (0 when flat).
   double nose_length(double radius) const;
+  // Its radius at `z` above the tip, m, for z in [0, nose_length] (the cylinder's radius when
+  // flat).
+  double radius_at(double z, double radius) const;
 };
 
 // A circular cylinder: base centre, axis vector (its length is the cylinder's length, the nose
@@ -69,7 +73,7 @@ struct CylinderGeometry {
 // through `base` — the O-grid around a square SPH core. Hexahedra are element_size at the hole
 // (matching a lattice of that spacing there) and grow geometrically to rim_element_size at the
 // rim (0: the circumferential size there, for square elements in plan).
-// Faces: inner (the hole), rim, bottom, top; a quarter also xmin and ymin.
+// Faces: inner (the hole), rim, bottom, top; a half also ymin, a quarter xmin and ymin.
 struct RingGeometry {
   Vec3 base = Vec3::Zero();
   double half_width = 0, radius = 0, thickness = 0;
@@ -89,7 +93,7 @@ struct GeometrySpec {
 enum class Method { Fem, Sph };
 
 // Named faces: a box has xmin, xmax, ymin, ymax, zmin, zmax; a cylinder has base, top, side
-// (a quarter also xmin, ymin); a ring inner, rim, bottom, top (a quarter also xmin, ymin).
+// (a half also ymin, a quarter xmin, ymin); a ring inner, rim, bottom, top (the same cuts).
 // FE bodies are meshed with element_size; SPH bodies are filled with a cubic lattice of
 // the given spacing Δp, smoothing length h = h_factor · Δp. An SPH box's lattice puts the
 // particles at cell centres (Centred) or on the nodes of the matching hex grid (Nodes, box only).
@@ -217,11 +221,12 @@ struct OutputSpec {
 // What a scene template was given (solver/scenes/plate_impact.hpp), for the run's summary.json
 // ("scene"), where reports and sweeps read the impact velocity and the resolution back.
 struct SceneSpec {
-  std::string name;   // plate_impact
-  std::string preset; // coarse, standard, fine
-  bool quarter = false;
-  double spacing = 0;  // the core's Δp, m
-  double velocity = 0; // projectile.velocity, m/s towards the plate
+  std::string name;              // plate_impact
+  std::string preset;            // coarse, standard, fine
+  std::string symmetry = "none"; // quarter, half, none
+  double obliquity = 0;          // degrees from the plate's normal, in the x–z plane
+  double spacing = 0;            // the core's Δp, m
+  double velocity = 0;           // projectile.velocity, m/s towards the plate
 };
 
 struct Case {

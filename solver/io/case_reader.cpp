@@ -98,10 +98,14 @@ Names face_names(const GeometrySpec& g) {
   case GeometrySpec::Kind::Cylinder:
     if (g.cylinder.sector == Sector::Quarter)
       return {"base", "top", "side", "xmin", "ymin"};
+    if (g.cylinder.sector == Sector::Half)
+      return {"base", "top", "side", "ymin"};
     return {"base", "top", "side"};
   case GeometrySpec::Kind::Ring:
     if (g.ring.sector == Sector::Quarter)
       return {"inner", "rim", "bottom", "top", "xmin", "ymin"};
+    if (g.ring.sector == Sector::Half)
+      return {"inner", "rim", "bottom", "top", "ymin"};
     return {"inner", "rim", "bottom", "top"};
   case GeometrySpec::Kind::File:
     break;
@@ -632,10 +636,11 @@ Sector CaseReader::sector(const Located& shape, Method method) const {
   const Located at = child(shape, "sector");
   if (!at.node.IsDefined())
     return Sector::Full;
-  const Sector sector =
-      choice<Sector>(at, "sector", {{"full", Sector::Full}, {"quarter", Sector::Quarter}});
-  if (sector == Sector::Quarter && method != Method::Fem)
-    fail(at, "quarter is only meshed in hexahedra (method fem); an sph body takes a box");
+  const Sector sector = choice<Sector>(
+      at, "sector", {{"full", Sector::Full}, {"half", Sector::Half}, {"quarter", Sector::Quarter}});
+  if (sector != Sector::Full && method != Method::Fem)
+    fail(at,
+         describe(at.node) + " is only meshed in hexahedra (method fem); an sph body takes a box");
   return sector;
 }
 
@@ -707,6 +712,8 @@ GeometrySpec CaseReader::geometry(const Located& at, Method method) const {
   if (spec.cylinder.sector == Sector::Quarter &&
       !(a.z() > 0 && a.head<2>().norm() <= 1e-12 * a.norm()))
     fail(axis, "a quarter cylinder needs an axis along +z, got " + format(a));
+  if (spec.cylinder.sector == Sector::Half && !(std::abs(a.y()) <= 1e-12 * a.norm()))
+    fail(axis, "a half cylinder needs an axis in the x–z plane (y = 0), got " + format(a));
   return spec;
 }
 

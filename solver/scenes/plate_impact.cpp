@@ -48,8 +48,15 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   const double dp = s.spacing.value_or(preset_spacing(s.preset));
   const double element = s.element_size.value_or(preset_spacing(s.preset));
   const double a = s.core_half_width, t = s.thickness, radius = 0.5 * s.diameter;
-  SPHFEM_CHECK(a > radius, "core.half_width: must exceed the projectile's radius ", radius,
-               " m (the projectile meets only the SPH core), got ", a, " m");
+  const double beta = s.obliquity * std::numbers::pi / 180;
+  SPHFEM_CHECK(s.symmetry != Sector::Quarter || s.obliquity == 0,
+               "symmetry: quarter needs a normal impact; a shot at obliquity ", s.obliquity,
+               "° is symmetric about y = 0 only (symmetry: half)");
+  // An oblique cylinder cuts an ellipse of semi-axis R / cos β along x out of the plate.
+  SPHFEM_CHECK(a > radius / std::cos(beta), "core.half_width: must exceed the projectile's ",
+               s.obliquity > 0 ? "footprint's half-length R / cos β = " : "radius ",
+               radius / std::cos(beta), " m (the projectile meets only the SPH core), got ", a,
+               " m");
   SPHFEM_CHECK(0.5 * s.clamped_diameter > std::numbers::sqrt2 * a,
                "plate.clamped_diameter: the clamped circle must enclose the SPH core's corners (",
                2 * std::numbers::sqrt2 * a, " m across), got ", s.clamped_diameter, " m");
@@ -72,27 +79,38 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
                       : "core's contact spheres, whose top is Δp/2 = ",
                reach, " m at this resolution");
 
-  const double low = s.quarter ? 0.0 : -a;
+  const double low = s.symmetry == Sector::Full ? -a : 0.0;
   BodySpec core;
   core.name = "plate_core";
   core.method = Method::Sph;
   core.geometry.kind = GeometrySpec::Kind::Box;
-  core.geometry.box = {Vec3(low, low, -t), Vec3(a, a, 0)};
+  core.geometry.box = {Vec3(s.symmetry == Sector::Quarter ? 0.0 : -a, low, -t), Vec3(a, a, 0)};
   core.spacing = dp;
   core.h_factor = s.core_h_factor;
   core.lattice = BodySpec::Lattice::Nodes;
   core.material = s.plate_material;
 
-  const Sector sector = s.quarter ? Sector::Quarter : Sector::Full;
   BodySpec ring = fem_body("plate_ring", s.plate_material, dp);
   ring.geometry.kind = GeometrySpec::Kind::Ring;
-  ring.geometry.ring = {Vec3(0, 0, -t), a, 0.5 * s.clamped_diameter, t, s.rim_element_size, sector};
+  ring.geometry.ring = {Vec3(0, 0, -t),     a,         0.5 * s.clamped_diameter, t,
+                        s.rim_element_size, s.symmetry};
 
+  // The projectile's base (its nose's tip) B on the line through the plate's centre along â,
+  // so high that its lowest point, min over its surface of z − B_z = min_z (z cos β − r(z) sin β)
+  // (z along the axis from the tip; r(z) the nose's radius, R on the shank), is `gap` above.
+  const Vec3 along(std::sin(beta), 0, std::cos(beta));
+  const double nose = s.nose.nose_length(radius);
+  double lowest = nose * std::cos(beta) - radius * std::sin(beta); // the shank's lowest edge
+  for (int i = 0; i < 1000; ++i) {
+    const double z = nose * i / 1000;
+    lowest = std::min(lowest, z * std::cos(beta) - s.nose.radius_at(z, radius) * std::sin(beta));
+  }
+  const Vec3 base = (gap - lowest) / std::cos(beta) * along;
   BodySpec projectile = fem_body("projectile", s.projectile_material, element);
   projectile.geometry.kind = GeometrySpec::Kind::Cylinder;
-  projectile.geometry.cylinder = {Vec3(0, 0, gap), Vec3(0, 0, s.length), radius, sector, s.nose};
+  projectile.geometry.cylinder = {base, s.length * along, radius, s.symmetry, s.nose};
   projectile.h_factor = s.projectile_h_factor;
-  projectile.velocity = Vec3(0, 0, -s.velocity);
+  projectile.velocity = -s.velocity * along;
 
   c.bodies = {core, ring, projectile};
   c.attachments = {{ring.name, core.name}};
@@ -100,18 +118,24 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   contact.bodies = {core.name, projectile.name};
   c.contacts = {contact};
   c.boundary_conditions = {condition(BoundaryType::Fixed, ring.name, "rim")};
-  if (s.quarter)
-    for (const BodySpec* body : {&core, &ring, &projectile})
-      for (const char* face : {"xmin", "ymin"})
-        c.boundary_conditions.push_back(condition(BoundaryType::Symmetry, body->name, face));
-  c.scene = SceneSpec{"plate_impact", s.preset, s.quarter, dp, s.velocity};
+  for (const BodySpec* body : {&core, &ring, &projectile}) {
+    if (s.symmetry == Sector::Quarter)
+      c.boundary_conditions.push_back(condition(BoundaryType::Symmetry, body->name, "xmin"));
+    if (s.symmetry != Sector::Full)
+      c.boundary_conditions.push_back(condition(BoundaryType::Symmetry, body->name, "ymin"));
+  }
+  const char* symmetry = s.symmetry == Sector::Quarter ? "quarter"
+                         : s.symmetry == Sector::Half  ? "half"
+                                                       : "none";
+  c.scene = SceneSpec{"plate_impact", s.preset, symmetry, s.obliquity, dp, s.velocity};
   // The section through the impact axis, a quarter spacing off the plane y = 0 so that it cuts
   // elements and particle layers rather than running along them. Its normal is −y so that the
   // section's in-plane axis u = z × n is +x: a quarter model (x ≥ 0) is drawn at u ≥ 0. The
   // picture shows the core and as much ring again (|x| ≤ 2 half_width), where the plate bulges.
   if (!c.output.section)
-    c.output.section = SectionPlane{Vec3(0, 0.25 * dp, -0.5 * t), -Vec3::UnitY(),
-                                    std::array<double, 2>{s.quarter ? 0.0 : -2 * a, 2 * a}};
+    c.output.section =
+        SectionPlane{Vec3(0, 0.25 * dp, -0.5 * t), -Vec3::UnitY(),
+                     std::array<double, 2>{s.symmetry == Sector::Quarter ? 0.0 : -2 * a, 2 * a}};
 }
 
 void read_plate_impact(const CaseNode& root, Case& c) {
@@ -121,8 +145,10 @@ void read_plate_impact(const CaseNode& root, Case& c) {
   PlateImpactSpec s;
   if (const CaseNode preset = root.child("preset"); preset.defined())
     s.preset = preset.one_of({"coarse", "standard", "fine"}, "preset");
-  if (const CaseNode symmetry = root.child("symmetry"); symmetry.defined())
-    s.quarter = symmetry.one_of({"quarter", "none"}, "symmetry") == "quarter";
+  if (const CaseNode symmetry = root.child("symmetry"); symmetry.defined()) {
+    const std::string name = symmetry.one_of({"quarter", "half", "none"}, "symmetry");
+    s.symmetry = name == "quarter" ? Sector::Quarter : name == "half" ? Sector::Half : Sector::Full;
+  }
 
   const CaseNode plate = root.required("plate", "thickness, clamped_diameter, material");
   plate.check_keys({"thickness", "clamped_diameter", "rim_element_size", "material"});
@@ -146,7 +172,7 @@ void read_plate_impact(const CaseNode& root, Case& c) {
 
   const CaseNode projectile = root.required("projectile", "diameter, length, material, velocity");
   projectile.check_keys({"diameter", "length", "nose", "nose_length", "crh", "material", "velocity",
-                         "gap", "element_size", "h_factor", "contact"});
+                         "obliquity", "gap", "element_size", "h_factor", "contact"});
   s.diameter = projectile.required("diameter", "m").number("> 0 m", positive);
   s.length = projectile.required("length", "m").number("> 0 m", positive);
   using Shape = NoseGeometry::Shape;
@@ -172,6 +198,8 @@ void read_plate_impact(const CaseNode& root, Case& c) {
       projectile.required("material", "name of a material").one_of(material_names, "material");
   s.velocity = projectile.required("velocity", "impact speed towards the plate, m/s")
                    .number(">= 0 m/s (positive towards the plate)", non_negative);
+  s.obliquity = projectile.number_or("obliquity", 0.0, "in [0, 90) degrees from the plate's normal",
+                                     [](double v) { return v >= 0 && v < 90; });
   if (const CaseNode gap = projectile.child("gap"); gap.defined())
     s.gap = gap.number("> 0 m", positive);
   if (const CaseNode size = projectile.child("element_size"); size.defined())

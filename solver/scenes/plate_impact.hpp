@@ -7,14 +7,17 @@
 //   plate_core  SPH box |x|, |y| ≤ a through the thickness, lattice on nodes (spacing Δp);
 //   plate_ring  FE ring around it (RingGeometry), Δp at the core, graded to the clamped rim;
 //               attached to plate_core (its interface nodes coincide with the lattice's);
-//   projectile  FE cylinder, its base (a nose's tip) `gap` above the plate, velocity −v ẑ; in
-//   contact with
-//               plate_core (a surface contact unless the case names the kernel one); by default
-//               the gap is a quarter element beyond where the contact starts: the core's
-//               spheres (Δp/2 above its top layer) or the kernel's reach h_core + h_projectile;
-//   plate_ring/rim fixed; symmetry quarter: the three bodies cut at x = 0 and y = 0 with
-//               symmetry conditions there (mirror particles for SPH, rollers for FE).
-// The plate's impact face is z = 0, its back face z = −thickness; the impact axis is −z.
+//   projectile  FE cylinder along â = (sin β, 0, cos β), β the obliquity, velocity −v â, its
+//               axis through the plate's centre and its lowest point `gap` above the plate; in
+//               contact with plate_core (a surface contact unless the case names the kernel
+//               one); by default the gap is a quarter element beyond where the contact starts:
+//               the core's spheres (Δp/2 above its top layer) or the kernel's reach h_core +
+//               h_projectile;
+//   plate_ring/rim fixed; symmetry quarter (normal impact only): the three bodies cut at x = 0
+//               and y = 0, half: at y = 0, with symmetry conditions there (mirror particles for
+//               SPH, rollers for FE).
+// The plate's impact face is z = 0, its back face z = −thickness; the normal impact's axis is −z,
+// an oblique one's leans towards +x above the plate (the projectile travels towards −x).
 // Resolution presets set Δp (the core spacing, the ring's size at the core and the projectile's
 // element size): coarse 1.5 mm, standard 1 mm, fine 0.75 mm (8, 12 and 16 particles through
 // Børvik's 12 mm; at 2 mm, 6, no plug separates at 303.5 m/s); an explicit core.spacing or
@@ -31,7 +34,8 @@ namespace sphfem {
 
 struct PlateImpactSpec {
   std::string preset = "standard"; // coarse, standard or fine
-  bool quarter = false;            // symmetry: quarter
+  Sector symmetry = Sector::Full;  // quarter, half (y ≥ 0) or the whole (none)
+  double obliquity = 0;            // degrees from the plate's normal, in the x–z plane
   // plate
   double thickness = 0, clamped_diameter = 0; // m
   double rim_element_size = 0;                // m, 0: square elements at the rim

@@ -101,10 +101,6 @@ TEST(PlateImpactScene, ExpandsIntoCoreRingAndProjectile) {
   EXPECT_TRUE(c.output.section->normal.isApprox(-Vec3::UnitY())); // u = z × n = +x
 }
 
-// Without a contact block the projectile meets the core through the surface contact, whose
-// penalty defaults to the softer P-wave modulus E (1 − ν)/((1 + ν)(1 − 2ν)) of the two materials
-// (both 200 GPa, ν 0.33 here: 296.3 GPa), and it starts a quarter element beyond the top of the
-// core's contact spheres, Δp/2 above the plate: 1 + 0.5 mm at 2 mm.
 TEST(PlateImpactScene, NosesGoToTheProjectilesCylinder) {
   const Case blunt = scene();
   EXPECT_EQ(body(blunt, "projectile").geometry.cylinder.nose.shape, NoseGeometry::Shape::Flat);
@@ -118,6 +114,54 @@ TEST(PlateImpactScene, NosesGoToTheProjectilesCylinder) {
   EXPECT_DOUBLE_EQ(body(cone, "projectile").geometry.cylinder.nose.length, 0.015);
 }
 
+// A shot at 30° on a half model: the core and ring cut at y = 0, the projectile along
+// â = (sin 30°, 0, cos 30°) through the plate's centre, moving along −â, its blunt face's lowest
+// edge (R sin 30° below the face's centre) where a normal shot's face would be.
+TEST(PlateImpactScene, ObliqueShotOnAHalfModel) {
+  const Case normal = scene({"symmetry=half"});
+  const Case c = scene({"symmetry=half", "projectile.obliquity=30"});
+  const double a = 0.024, beta = std::numbers::pi / 6;
+  EXPECT_TRUE(body(c, "plate_core").geometry.box.min.isApprox(Vec3(-a, 0, -0.012)));
+  EXPECT_EQ(body(c, "plate_ring").geometry.ring.sector, Sector::Half);
+  const CylinderGeometry& g = body(c, "projectile").geometry.cylinder;
+  const Vec3 along(std::sin(beta), 0, std::cos(beta));
+  EXPECT_EQ(g.sector, Sector::Half);
+  EXPECT_TRUE(g.axis.isApprox(0.08 * along));
+  EXPECT_NEAR(g.base.cross(along).norm(), 0, 1e-15); // on the line through the plate's centre
+  const double gap = body(normal, "projectile").geometry.cylinder.base.z();
+  EXPECT_NEAR(g.base.z() - 0.01 * std::sin(beta), gap, 1e-15);
+  EXPECT_TRUE(body(c, "projectile").velocity.isApprox(-303.5 * along));
+  // The clamped rim, then ymin symmetry on each of the three bodies.
+  ASSERT_EQ(c.boundary_conditions.size(), 4u);
+  for (std::size_t k = 1; k < 4; ++k) {
+    EXPECT_EQ(c.boundary_conditions[k].type, BoundaryType::Symmetry);
+    EXPECT_EQ(c.boundary_conditions[k].face, "ymin");
+  }
+  ASSERT_TRUE(c.scene.has_value());
+  EXPECT_EQ(c.scene->symmetry, "half");
+  EXPECT_EQ(c.scene->obliquity, 30.0);
+}
+
+// A pointed nose at an angle: its lowest node, meshed, lies the gap above the plate (to within
+// the nose's faceting between nodes, under an element).
+TEST(PlateImpactScene, ObliqueOgiveStartsTheGapAbove) {
+  const Case normal = scene({"symmetry=half"});
+  const double gap = body(normal, "projectile").geometry.cylinder.base.z();
+  const Case c = scene(
+      {"symmetry=half", "projectile.obliquity=40", "projectile.nose=ogival", "projectile.crh=2"});
+  const Model m = mesh_case(c);
+  double lowest = 1;
+  for (std::size_t n = 0; n < m.x_n.size(); ++n)
+    if (m.body_n[n] == c.body_index("projectile"))
+      lowest = std::min(lowest, m.x_n[n].z());
+  EXPECT_GE(lowest, gap - 1e-9);
+  EXPECT_LT(lowest, gap + 0.002);
+}
+
+// Without a contact block the projectile meets the core through the surface contact, whose
+// penalty defaults to the softer P-wave modulus E (1 − ν)/((1 + ν)(1 − 2ν)) of the two materials
+// (both 200 GPa, ν 0.33 here: 296.3 GPa), and it starts a quarter element beyond the top of the
+// core's contact spheres, Δp/2 above the plate: 1 + 0.5 mm at 2 mm.
 TEST(PlateImpactScene, SurfaceContactIsTheDefault) {
   std::string text = kScene;
   const std::string kernel = "  contact: {model: kernel, penalty: 1.0e11, exponent: 2}\n";
@@ -169,7 +213,20 @@ TEST(PlateImpactScene, BadScenesAreNamed) {
   EXPECT_NE(error_of({"preset=medium"}).find("--set preset: preset: unknown preset 'medium'"),
             std::string::npos)
       << error_of({"preset=medium"});
-  EXPECT_NE(error_of({"symmetry=half"}).find("symmetry"), std::string::npos);
+  EXPECT_NE(error_of({"symmetry=eighth"}).find("symmetry"), std::string::npos);
+  EXPECT_NE(error_of({"projectile.obliquity=20"})
+                .find("symmetry: quarter needs a normal impact; a shot at obliquity 20° is "
+                      "symmetric about y = 0 only (symmetry: half)"),
+            std::string::npos)
+      << error_of({"projectile.obliquity=20"});
+  EXPECT_NE(error_of({"symmetry=half", "projectile.obliquity=90"})
+                .find("projectile.obliquity: must be in [0, 90) degrees"),
+            std::string::npos)
+      << error_of({"symmetry=half", "projectile.obliquity=90"});
+  EXPECT_NE(error_of({"symmetry=half", "projectile.obliquity=60", "core.half_width=0.018"})
+                .find("footprint's half-length R / cos β = 0.02"),
+            std::string::npos)
+      << error_of({"symmetry=half", "projectile.obliquity=60", "core.half_width=0.018"});
   EXPECT_NE(error_of({"core.half_width=0.008"})
                 .find("core.half_width: must exceed the "
                       "projectile's radius"),
@@ -228,9 +285,9 @@ double mass_of(const Case& c, const Model& m, const std::vector<std::string>& bo
   return mass;
 }
 
-TEST(PlateImpactScene, QuarterModelHoldsAQuarterOfTheMass) {
-  const Case quarter = scene(), whole = scene({"symmetry=none"});
-  const Model mq = mesh_case(quarter), mw = mesh_case(whole);
+TEST(PlateImpactScene, QuarterAndHalfModelsHoldTheirShareOfTheMass) {
+  const Case quarter = scene(), half = scene({"symmetry=half"}), whole = scene({"symmetry=none"});
+  const Model mq = mesh_case(quarter), mh = mesh_case(half), mw = mesh_case(whole);
   const std::vector<std::string> plate{"plate_core", "plate_ring"}, projectile{"projectile"};
   // Straight-edged hexahedra fill prisms over polygons inscribed in the circles, of area
   // (N/2) R² sin(2π/N): the plate's rim has N = 8 · 12 sides at 2 mm (less the 48 mm square
@@ -246,12 +303,18 @@ TEST(PlateImpactScene, QuarterModelHoldsAQuarterOfTheMass) {
   EXPECT_NEAR(mass_of(quarter, mq, plate), 0.25 * mass_of(whole, mw, plate), 1e-12 * plate_exact);
   EXPECT_NEAR(mass_of(quarter, mq, projectile), 0.25 * mass_of(whole, mw, projectile),
               1e-12 * projectile_exact);
+  EXPECT_NEAR(mass_of(half, mh, plate), 0.5 * mass_of(whole, mw, plate), 1e-12 * plate_exact);
+  EXPECT_NEAR(mass_of(half, mh, projectile), 0.5 * mass_of(whole, mw, projectile),
+              1e-12 * projectile_exact);
+  // The core's lattice likewise: its particles' masses (lumped on the nodes) sum to the box's.
+  EXPECT_NEAR(mass_of(half, mh, {"plate_core"}), 7850 * 0.048 * 0.024 * 0.012,
+              1e-9 * 7850 * 0.048 * 0.024 * 0.012);
 }
 
 // The ring's hole nodes coincide with the core's outer lattice nodes, so the mesher ties them
 // (METHOD.md §4.2): every node of plate_ring/inner has a particle at its place.
 TEST(PlateImpactScene, InterfaceMatchesTheLattice) {
-  for (const std::string symmetry : {"quarter", "none"}) {
+  for (const std::string symmetry : {"quarter", "half", "none"}) {
     const Case c = scene({"symmetry=" + symmetry});
     const Model m = mesh_case(c);
     const auto& inner = m.node_sets.at("plate_ring/inner");
@@ -263,9 +326,10 @@ TEST(PlateImpactScene, InterfaceMatchesTheLattice) {
       ASSERT_TRUE(matched) << symmetry << ": node at " << x.transpose();
     }
     // 24 mm / 2 mm = 12 elements per half side, 6 layers: the hole's side nodes.
-    const std::size_t sides = symmetry == "quarter" ? 2 : 4;
-    const std::size_t per_side = symmetry == "quarter" ? 13 : 25;
-    EXPECT_EQ(inner.size(), (sides * per_side - (symmetry == "quarter" ? 1 : 4)) * 7);
+    // A quarter's two sides (13 + 13 − 1 nodes a layer), a half's three (13 + 25 + 13 − 2), the
+    // whole's four (4 · 25 − 4).
+    const std::size_t per_layer = symmetry == "quarter" ? 25 : symmetry == "half" ? 49 : 96;
+    EXPECT_EQ(inner.size(), per_layer * 7);
   }
 }
 
