@@ -21,9 +21,9 @@ namespace sphfem {
 //   A cylinder with a pointed nose (hemispherical, conical, ogival; its tip at `base`) continues
 //   the O-grid through the nose in four blocks a quadrant, face base the nose (mesher/nose.cpp).
 //   Ring: 45° sectors around the square hole (8, a half 4, a quarter 2),
-//   n_s = round(a / element_size) hexes along each sector's piece of the hole side and rim arc, radially graded from
-//   element_size at the hole to about rim_element_size at the rim, round(t / element_size)
-//   layers; the hole's nodes are those of a `lattice: nodes` SPH box of spacing element_size
+//   n_s = round(a / element_size) hexes along each sector's piece of the hole side and rim
+//   arc, radially graded from element_size at the hole to about rim_element_size at the rim,
+//   round(t / element_size) layers; the hole's nodes are those of a `lattice: nodes` SPH box of spacing element_size
 //   filling it. Faces inner, rim, bottom, top (a half also ymin, a quarter xmin, ymin)
 //   (mesher/ring.cpp).
 //   Hexes have positive volume in gmsh order; face-set quads have outward right-hand normals.
