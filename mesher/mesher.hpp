@@ -23,10 +23,10 @@ namespace sphfem {
 //   Ring: 45° sectors around the square hole (8, a half 4, a quarter 2),
 //   n_s = round(a / element_size) hexes along each sector's piece of the hole side and rim
 //   arc, radially graded from element_size at the hole to about rim_element_size at the rim,
-//   round(t / element_size) layers; the hole's nodes are those of a `lattice: nodes` SPH box of spacing element_size
-//   filling it. Faces inner, rim, bottom, top (a half also ymin, a quarter xmin, ymin)
-//   (mesher/ring.cpp).
-//   Hexes have positive volume in gmsh order; face-set quads have outward right-hand normals.
+//   round(t / element_size) layers; the hole's nodes are those of a `lattice: nodes` SPH box of
+//   spacing element_size filling it. Faces inner, rim, bottom, top (a half also ymin, a quarter
+//   xmin, ymin) (mesher/ring.cpp). Hexes have positive volume in gmsh order; face-set quads have
+//   outward right-hand normals.
 // SPH bodies become particles on a cubic lattice of spacing Δp (rules in mesher/lattice.cpp):
 // a box is tiled exactly, its particles at the cell centres (lattice centred) or on the nodes of
 // the matching hex mesh (lattice nodes, lumped nodal masses); cylinders and geometry files keep
