@@ -226,6 +226,7 @@ struct SceneSpec {
   std::string symmetry = "none"; // quarter, half, none
   double obliquity = 0;          // degrees from the plate's normal, in the x–z plane
   double spacing = 0;            // the core's Δp, m
+  double core_half_width = 0;    // m, given or the scene's
   double velocity = 0;           // projectile.velocity, m/s towards the plate
 };
 

@@ -44,10 +44,17 @@ double preset_spacing(const std::string& preset) {
   throw Error("preset: unknown preset '" + preset + "' (expected coarse, standard or fine)");
 }
 
+double core_half_width_for(const PlateImpactSpec& s, double spacing) {
+  const double beta = s.obliquity * std::numbers::pi / 180;
+  const double swept = 0.5 * s.diameter / std::cos(beta) + s.thickness * std::tan(beta);
+  return spacing * std::ceil((swept + core_margin * s.thickness) / spacing - 1e-9);
+}
+
 void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   const double dp = s.spacing.value_or(preset_spacing(s.preset));
   const double element = s.element_size.value_or(preset_spacing(s.preset));
-  const double a = s.core_half_width, t = s.thickness, radius = 0.5 * s.diameter;
+  const double a = s.core_half_width.value_or(core_half_width_for(s, dp));
+  const double t = s.thickness, radius = 0.5 * s.diameter;
   const double beta = s.obliquity * std::numbers::pi / 180;
   SPHFEM_CHECK(s.symmetry != Sector::Quarter || s.obliquity == 0,
                "symmetry: quarter needs a normal impact; a shot at obliquity ", s.obliquity,
@@ -127,7 +134,7 @@ void expand_plate_impact(const PlateImpactSpec& s, Case& c) {
   const char* symmetry = s.symmetry == Sector::Quarter ? "quarter"
                          : s.symmetry == Sector::Half  ? "half"
                                                        : "none";
-  c.scene = SceneSpec{"plate_impact", s.preset, symmetry, s.obliquity, dp, s.velocity};
+  c.scene = SceneSpec{"plate_impact", s.preset, symmetry, s.obliquity, dp, a, s.velocity};
   // The section through the impact axis, a quarter spacing off the plane y = 0 so that it cuts
   // elements and particle layers rather than running along them. Its normal is −y so that the
   // section's in-plane axis u = z × n is +x: a quarter model (x ≥ 0) is drawn at u ≥ 0. The
@@ -160,15 +167,17 @@ void read_plate_impact(const CaseNode& root, Case& c) {
   s.plate_material =
       plate.required("material", "name of a material").one_of(material_names, "material");
 
-  const CaseNode core = root.required("core", "half_width of the SPH core");
-  core.check_keys({"half_width", "spacing", "h_factor"});
-  s.core_half_width =
-      core.required("half_width", "half-width of the square SPH core, m").number("> 0 m", positive);
-  if (const CaseNode spacing = core.child("spacing"); spacing.defined())
-    s.spacing = spacing.number("> 0 m", positive);
-  s.core_h_factor = core.number_or("h_factor", s.core_h_factor, "in [1.0, 2.0]", [](double v) {
-    return v >= sph_h_factor_low && v <= sph_h_factor_high;
-  });
+  // The core's keys are each optional, and so is the block: the scene sizes the core.
+  if (const CaseNode core = root.child("core"); core.defined()) {
+    core.check_keys({"half_width", "spacing", "h_factor"});
+    if (const CaseNode half_width = core.child("half_width"); half_width.defined())
+      s.core_half_width = half_width.number("> 0 m", positive);
+    if (const CaseNode spacing = core.child("spacing"); spacing.defined())
+      s.spacing = spacing.number("> 0 m", positive);
+    s.core_h_factor = core.number_or("h_factor", s.core_h_factor, "in [1.0, 2.0]", [](double v) {
+      return v >= sph_h_factor_low && v <= sph_h_factor_high;
+    });
+  }
 
   const CaseNode projectile = root.required("projectile", "diameter, length, material, velocity");
   projectile.check_keys({"diameter", "length", "nose", "nose_length", "crh", "material", "velocity",

@@ -41,9 +41,9 @@ struct PlateImpactSpec {
   double rim_element_size = 0;                // m, 0: square elements at the rim
   std::string plate_material;
   // SPH core
-  double core_half_width = 0;    // m
-  std::optional<double> spacing; // m, else the preset's
-  double core_h_factor = 1.2;    // h/Δp
+  std::optional<double> core_half_width; // m, else the scene's (core_half_width_for)
+  std::optional<double> spacing;         // m, else the preset's
+  double core_h_factor = 1.2;            // h/Δp
   // projectile
   double diameter = 0, length = 0;    // m
   double velocity = 0;                // m/s towards the plate
@@ -62,6 +62,13 @@ struct ResolutionPreset {
 };
 inline constexpr ResolutionPreset resolution_presets[] = {
     {"coarse", 0.0015}, {"standard", 0.001}, {"fine", 0.00075}};
+
+// The SPH core's half-width when the case does not give one: the projectile's footprint swept
+// through the plate — R / cos β at the impact face, shifted by t tan β at the back — plus a
+// margin of core_margin × t where the plate still deforms plastically, rounded up to whole
+// spacings Δp (so that the lattice and the ring meet).
+inline constexpr double core_margin = 0.75;
+double core_half_width_for(const PlateImpactSpec& s, double spacing);
 
 // The spacing of a preset; throws for an unknown name.
 double preset_spacing(const std::string& preset);

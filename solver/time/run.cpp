@@ -302,10 +302,13 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       summary["section_plane"]["u_range"] = {(*plane->u_range)[0], (*plane->u_range)[1]};
   }
   if (const auto& scene = c.scene)
-    summary["scene"] = {
-        {"name", scene->name},         {"preset", scene->preset},
-        {"symmetry", scene->symmetry}, {"obliquity_deg", scene->obliquity},
-        {"spacing", scene->spacing},   {"projectile", {{"velocity", scene->velocity}}}};
+    summary["scene"] = {{"name", scene->name},
+                        {"preset", scene->preset},
+                        {"symmetry", scene->symmetry},
+                        {"obliquity_deg", scene->obliquity},
+                        {"spacing", scene->spacing},
+                        {"core_half_width", scene->core_half_width},
+                        {"projectile", {{"velocity", scene->velocity}}}};
   // A step factor near its limit keeps the run stable but lets the energy drift (docs/
   // stability.md: SPH at cfl 0.9–1.0 ends 10–14% off); say so where the user looks.
   summary["warnings"] = nlohmann::json::array();

@@ -142,6 +142,26 @@ TEST(PlateImpactScene, ObliqueShotOnAHalfModel) {
   EXPECT_EQ(c.scene->obliquity, 30.0);
 }
 
+// Without core.half_width the scene sizes the core: the footprint swept through the plate,
+// R / cos β + t tan β, plus 0.75 t, rounded up to whole spacings. Here R 10 mm, t 12 mm, Δp 1.5 mm
+// (the coarse preset): 19 mm → 19.5 mm at normal impact; at 30°, 11.55 + 6.93 + 9 = 27.5 mm →
+// 28.5 mm. (Measured at the coarse preset, 303.5 m/s: the projectile leaves at 213.6, 214.1,
+// 214.4, 214.0 and 214.4 m/s with half-widths of 16.5, 19.5, 22.5, 24 and 27 mm.)
+TEST(PlateImpactScene, CoreIsSizedByTheSceneUnlessGiven) {
+  std::string text = kScene;
+  const std::string core = "core: {half_width: 0.024, spacing: 0.002}\n";
+  text.erase(text.find(core), core.size());
+  const Case normal = read_case_text(text, "plate.yaml");
+  EXPECT_NEAR(body(normal, "plate_core").geometry.box.max.x(), 0.0195, 1e-12);
+  EXPECT_NEAR(normal.scene->core_half_width, 0.0195, 1e-12);
+  const Case oblique =
+      read_case_text(text, "plate.yaml", {"symmetry=half", "projectile.obliquity=30"});
+  EXPECT_NEAR(body(oblique, "plate_core").geometry.box.max.x(), 0.0285, 1e-12);
+  EXPECT_NEAR(body(oblique, "plate_core").geometry.box.min.x(), -0.0285, 1e-12);
+  // Given, it wins.
+  EXPECT_NEAR(body(scene(), "plate_core").geometry.box.max.x(), 0.024, 1e-12);
+}
+
 // A pointed nose at an angle: its lowest node, meshed, lies the gap above the plate (to within
 // the nose's faceting between nodes, under an element).
 TEST(PlateImpactScene, ObliqueOgiveStartsTheGapAbove) {
