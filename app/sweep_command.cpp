@@ -346,7 +346,9 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
       "Each value is run as `sphfem run CASE -o DIR/run_<key>_<value> --set <key>=<value>`;\n"
       "the results are read from each run's summary.json (results.perforated, residual\n"
       "velocities, plug mass). --bisect then halves the bracket between the highest\n"
-      "non-perforating and the lowest perforating value until it is at most --tolerance wide.\n"
+      "non-perforating and the lowest perforating value until it is at most --tolerance wide;\n"
+      "if every run perforated it first runs lower (0.95 sqrt(v0^2 - vr^2) of the slowest),\n"
+      "if none did higher (1.5 x the fastest), saying so, up to 8 times, until it has one.\n"
       "A Recht-Ipson curve vr = a (v0^p - vbl^p)^(1/p) is fitted to the perforating runs.\n"
       "--reference compares the runs and the fit with one vr column of a CSV file and, from\n"
       "further vr columns, compares other results (a paper's) with it alike, side by side.\n"
@@ -440,12 +442,29 @@ void run_sweep_command(const SweepCommandOptions& options) {
   };
   for (const RunPlan& plan : plans)
     run_next(plan);
+  const auto already_run = [&sweep](double v) {
+    return std::ranges::any_of(
+        sweep.runs, [v](const post::SweepRun& r) { return number_text(r.v0) == number_text(v); });
+  };
   if (o.bisect) {
-    while (const auto v = post::next_bisection(post::ballistic_points(sweep.runs), o.tolerance)) {
-      if (std::ranges::any_of(sweep.runs, [&v](const post::SweepRun& r) {
-            return number_text(r.v0) == number_text(*v);
-          }))
-        break; // the bracket is below the values' resolution
+    // First a bracket (every run perforated, or none did: extend the list), then halve it.
+    constexpr int most_extensions = 8;
+    for (int extensions = 0;;) {
+      const std::vector<post::BallisticPoint> points = post::ballistic_points(sweep.runs);
+      if (const auto step = post::next_bracket_step(points)) {
+        if (extensions == most_extensions || already_run(step->v0) || !(step->v0 > 0)) {
+          std::cout << "sweep: no bracket of the ballistic limit after " << extensions
+                    << " extensions (" << step->reason << " was next); not bisecting\n";
+          break;
+        }
+        ++extensions;
+        std::cout << "sweep: " << step->reason << "\n";
+        run_next(plan_run(o, step->v0));
+        continue;
+      }
+      const auto v = post::next_bisection(points, o.tolerance);
+      if (!v || already_run(*v)) // done, or the bracket is below the values' resolution
+        break;
       run_next(plan_run(o, *v));
     }
   }

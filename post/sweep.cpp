@@ -435,6 +435,27 @@ std::optional<double> next_bisection(const std::vector<BallisticPoint>& points, 
   return 0.5 * (below + above);
 }
 
+std::optional<BracketStep> next_bracket_step(const std::vector<BallisticPoint>& points) {
+  if (points.empty())
+    return std::nullopt;
+  const bool any_perforated = std::ranges::any_of(points, &BallisticPoint::perforated);
+  const bool all_perforated = std::ranges::all_of(points, &BallisticPoint::perforated);
+  if (all_perforated) {
+    const BallisticPoint& low = std::ranges::min(points, {}, &BallisticPoint::v0);
+    const double estimate = 0.95 * std::sqrt(std::max(0.0, low.v0 * low.v0 - low.vr * low.vr));
+    const double v0 = std::min(estimate, 0.9 * low.v0);
+    return BracketStep{v0, "every run perforated: extending downward to " + format("%.4g", v0) +
+                               " m/s (below " + format("%.4g", low.v0) + " m/s)"};
+  }
+  if (!any_perforated) {
+    const double high = std::ranges::max(points, {}, &BallisticPoint::v0).v0;
+    return BracketStep{1.5 * high, "no run perforated: extending upward to " +
+                                       format("%.4g", 1.5 * high) + " m/s (above " +
+                                       format("%.4g", high) + " m/s)"};
+  }
+  return std::nullopt;
+}
+
 std::vector<ReferenceSeries> read_ballistic_reference(const fs::path& file,
                                                       const std::string& v0_column,
                                                       const std::vector<std::string>& vr_columns) {

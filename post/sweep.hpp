@@ -41,6 +41,17 @@ std::vector<BallisticPoint> ballistic_points(const std::vector<SweepRun>& runs);
 // nothing when the bracket is at most `tolerance` wide or there is no bracket yet.
 std::optional<double> next_bisection(const std::vector<BallisticPoint>& points, double tolerance);
 
+// When there is no bracket yet, the next impact velocity that should make one, and why:
+// every run perforated — below the lowest, at 0.95 √(v0² − vr²) of its (v0, vr), the limit a
+// Recht–Ipson curve with p = 2 and a = 1 would put through it (a ≤ 1 puts the real one lower
+// still; a step of at least 10%); no run perforated — above the highest, by half. Nothing once a
+// bracket exists or without points.
+struct BracketStep {
+  double v0 = 0;      // m/s
+  std::string reason; // "every run perforated: extending downward to … m/s"
+};
+std::optional<BracketStep> next_bracket_step(const std::vector<BallisticPoint>& points);
+
 struct ReferencePoint {
   double v0 = 0, vr = 0; // m/s
   std::string label;     // the row's `label` cell, if the file has that column

@@ -131,6 +131,46 @@ TEST(Bisection, NeedsABracket) {
               1e-12);
 }
 
+// Without a bracket the sweep extends its list: below the slowest perforating run at
+// 0.95 √(v0² − vr²) (at least 10% lower), above the fastest non-perforating one by half.
+TEST(Bisection, ExtendsTheListUntilItBracketsTheLimit) {
+  const auto down = post::next_bracket_step({{300, 200, true}, {250, 120, true}});
+  ASSERT_TRUE(down);
+  EXPECT_NEAR(down->v0, 0.95 * std::sqrt(250.0 * 250 - 120.0 * 120), 1e-9);
+  EXPECT_NE(down->reason.find("every run perforated: extending downward"), std::string::npos);
+  EXPECT_NEAR(post::next_bracket_step({{300, 50, true}})->v0, 270.0, 1e-9); // at least 10% lower
+  const auto up = post::next_bracket_step({{100, 0, false}, {150, 0, false}});
+  ASSERT_TRUE(up);
+  EXPECT_NEAR(up->v0, 225.0, 1e-12);
+  EXPECT_NE(up->reason.find("no run perforated: extending upward"), std::string::npos);
+  EXPECT_FALSE(post::next_bracket_step({{100, 0, false}, {150, 40, true}}));
+  EXPECT_FALSE(post::next_bracket_step({}));
+
+  // On a Recht–Ipson target (vbl 185 m/s, a 0.8, p 2, Børvik's plate nearly), from one shot far
+  // above or one far below, the extensions find a bracket and the bisection then closes on 185.
+  const auto shoot = [](double v0) {
+    const bool through = v0 > 185;
+    return post::BallisticPoint{v0, through ? 0.8 * std::sqrt(v0 * v0 - 185.0 * 185) : 0, through};
+  };
+  for (const double start : {303.5, 60.0}) {
+    std::vector<post::BallisticPoint> points{shoot(start)};
+    int extensions = 0;
+    while (const auto step = post::next_bracket_step(points)) {
+      points.push_back(shoot(step->v0));
+      ++extensions;
+    }
+    EXPECT_LE(extensions, 3) << start;
+    while (const auto v = post::next_bisection(points, 1.0))
+      points.push_back(shoot(*v));
+    double below = 0, above = 1e9;
+    for (const auto& p : points)
+      (p.perforated ? above : below) = p.perforated ? std::min(above, p.v0) : std::max(below, p.v0);
+    EXPECT_LT(below, 185.0) << start;
+    EXPECT_GT(above, 185.0) << start;
+    EXPECT_LE(above - below, 1.0) << start;
+  }
+}
+
 TEST(SweepRun, MissingResultsAreUnknown) {
   test::Scratch s("sweep_unknown");
   post::SweepRun none;
