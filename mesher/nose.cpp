@@ -155,9 +155,15 @@ Plan plan(const CylinderGeometry& g, const Profile& p, double h) {
   for (int i = 0; i < 100; ++i)
     (p.arc(0, 0.5 * (lo + hi)) - s_lower < rise ? lo : hi) = 0.5 * (lo + hi);
   o.lower_diagonal = 0.5 * (lo + hi);
-  // The core's bottom: the square of half-width r_l/2, flat, up and in from the lower curve's
-  // points on the axes at 45°, at most half of the way up to the shoulder on blunt noses.
-  o.inner_mid = o.lower + std::min(rl - cl, 0.5 * (o.nose - o.lower));
+  // The core's bottom: the square of half-width r_l/2, flat, up and in at 45° or more from the
+  // lower curve's points on the axes and on the diagonals (so that the cap's corner under the
+  // core's is not flat where the lower curve has risen), at most 0.65 of the way up to the
+  // shoulder (blunt noses). Measured at R 10 mm, h 1 mm (hemisphere / cone of 15 mm / ogive CRH
+  // 3): smallest scaled Jacobian 0.50 / 0.31 / 0.29, shortest L_e 0.42 / 0.37 / 0.52 h; with the
+  // core's bottom at 45° from the axes' points only: 0.28 / 0.22 / 0.16 and 0.39 / 0.37 / 0.35 h.
+  const double rc = p.r(o.lower_diagonal);
+  o.inner_mid = std::max(o.lower + rl - cl, o.lower_diagonal + (rc - std::numbers::sqrt2 * cl));
+  o.inner_mid = std::min(o.inner_mid, o.lower + 0.65 * (o.nose - o.lower));
   o.inner_corner = o.inner_mid; // a flat bottom, as a sphere's O-grid's cube
   o.along = divisions(o.core, h);
   o.radial = divisions(g.radius - 0.5 * (1 + std::numbers::sqrt2) * o.core, h);

@@ -579,6 +579,22 @@ Report write_report(const ReportOptions& o) {
   report.html = dir / "report.html";
   report.images = page.images;
   write_text_atomically(report.html, h.str());
+  // The same comparison for scripts (scripts/validate.sh reads it).
+  if (!report.references.empty()) {
+    std::string csv = "quantity,reference,value,unit,relative_error,source\n";
+    const auto quoted = [](const std::string& text) {
+      std::string out = "\"";
+      for (const char c : text)
+        out += c == '"' ? std::string("\"\"") : std::string(1, c);
+      return out + "\"";
+    };
+    for (const ReferenceRow& r : report.references)
+      csv += r.quantity + "," + format("%.10g", r.reference) + "," +
+             (r.found ? format("%.10g", r.value) : "") + "," + r.unit + "," +
+             (r.found && r.reference != 0 ? format("%.6g", r.relative_error()) : "") + "," +
+             quoted(r.source) + "\n";
+    write_text_atomically(dir / "reference.csv", csv);
+  }
   return report;
 }
 

@@ -2,7 +2,8 @@
 // picture embedded as a base64 PNG, so it opens offline and can be mailed as one file): the
 // case, the run's cost, the energy balance chart, the bodies' velocity histories, their
 // residual velocities, a deformed section, the fragments and plug, and a table against the
-// case's reference values. The charts are also left beside it as PNG and CSV.
+// case's reference values. The charts are also left beside it as PNG and CSV, and the
+// comparison as reference.csv (quantity,reference,value,unit,relative_error,source).
 // With a body of particles the report also writes summary.json's "results" (DESIGN.md):
 // perforated (a plug, post/plug.hpp, has separated), residual_velocity.projectile and .plug
 // (m/s along the impact axis, 0 without perforation; the projectile is the other body with

@@ -144,6 +144,13 @@ TEST(Report, ComparesWithTheCaseReference) {
   EXPECT_NE(page.find("+0.00%"), std::string::npos);
   EXPECT_NE(page.find("class=\"bad\">+25.00%"), std::string::npos);
   EXPECT_NE(page.find("not in this run"), std::string::npos);
+  // The comparison for scripts: one row per reference value, empty where the run lacks it.
+  const std::string csv = slurp(out / "again" / "reference.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "quantity,reference,value,unit,relative_error,source");
+  EXPECT_NE(csv.find("counts.elements,2000,2500,,0.25,\"a wrong value\""), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("results.plug.mass,0.1,,kg,,\"no plug in a bar\""), std::string::npos)
+      << csv;
 }
 
 TEST(Report, MissingRunIsAClearError) {
