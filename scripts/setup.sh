@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   clang-format
+  python3                # scripts/validate.sh's page (standard library only)
   clang libclang-rt-14-dev libomp-14-dev  # scripts/hostile-input.sh: libFuzzer and sanitizers
 )
 
