@@ -5,7 +5,7 @@
 
 Reads DIR/bar_impact/report/reference.csv and DIR/bar_pressed/report/reference.csv (each run's
 comparison with its case's reference.csv) and DIR/borvik_12mm/sweep.json (the ballistic sweep:
-its Recht–Ipson limit, the rms error of its residual velocities against the experiments, and the
+its Recht–Ipson limit, the rms error of its residual velocities over the tests that perforated, and the
 run at 303.5 m/s's plug, whose mass is compared with a 20 mm × 12 mm cylinder's 29.6 g). Writes
 DIR/validation.csv and DIR/validation.html (the table and the sweep's chart, embedded). Standard
 library only. A quantity the model was calibrated on is marked so: a calibration judged on the
@@ -76,20 +76,31 @@ def borvik_rows(out):
                  "error": None if vbl is None else vbl - EXPERIMENT_LIMIT,
                  "relative": None if vbl is None else vbl / EXPERIMENT_LIMIT - 1, "unit": "m/s",
                  "source": "experiment (borvik_12mm_table3.csv)", "calibrated": note})
+    # The rms of the residual velocities over the tests that perforated (experiment vr > 0),
+    # ours and each comparison column's (a peer's, beside).
     ref = sweep.get("reference") or {}
-    rms = ref.get("rms_error_run_m_per_s")
+    points = [p for p in ref.get("points", []) if (p.get("vr_m_per_s") or 0) > 0]
+
+    def rms(errors):
+        errors = [e for e in errors if e is not None]
+        return (math.sqrt(sum(e * e for e in errors) / len(errors)), len(errors)) if errors \
+            else (None, 0)
+
+    value, n = rms([p.get("error_run_m_per_s") for p in points])
     rows.append({"case": "borvik_12mm",
-                 "quantity": f"rms error of vpr over {ref.get('common_points_run', 0)} tests",
-                 "prediction": None, "reference": None, "error": rms, "relative": None,
+                 "quantity": f"rms error of vpr over the {n} perforating tests",
+                 "prediction": None, "reference": None, "error": value, "relative": None,
                  "unit": "m/s", "source": "experiment (borvik_12mm_table3.csv)",
                  "calibrated": note})
-    for comparison in ref.get("comparisons", []):  # a peer's error on the same tests, beside
+    for k, comparison in enumerate(ref.get("comparisons", [])):
+        value, n = rms([(p.get("error_comparison_m_per_s") or [None] * (k + 1))[k]
+                        for p in points])
         rows.append({"case": "borvik_12mm",
-                     "quantity": f"rms error of vpr, {comparison['label']} "
-                                 f"({comparison['common_points']} tests)",
-                     "prediction": None, "reference": None,
-                     "error": comparison["rms_error_m_per_s"], "relative": None, "unit": "m/s",
-                     "source": "the same experiments, for comparison", "calibrated": ""})
+                     "quantity": f"rms error of vpr over the {n} perforating tests, "
+                                 f"{comparison['label']}",
+                     "prediction": None, "reference": None, "error": value, "relative": None,
+                     "unit": "m/s", "source": "the same experiments, for comparison",
+                     "calibrated": ""})
     for run in sweep.get("runs", []):
         if abs(run["v0_m_per_s"] - 303.5) < 1e-6 and run.get("plug_mass_kg") is not None:
             factor = symmetry_factor(run["run_folder"])

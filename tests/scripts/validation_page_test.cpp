@@ -55,9 +55,14 @@ TEST(ValidationPage, ComparesEachQuantityWithItsReference) {
   fs::create_directories(run);
   std::ofstream(run / "summary.json") << R"({"scene": {"symmetry": "quarter"}})";
   std::ofstream(out / "borvik_12mm" / "sweep.json") << R"({"fit": {"vbl_m_per_s": 190.0},
-             "reference": {"rms_error_run_m_per_s": 10.4, "common_points_run": 7,
-                           "comparisons": [{"label": "paper", "rms_error_m_per_s": 6.0,
-                                            "common_points": 7}]},
+             "reference": {"comparisons": [{"label": "paper"}],
+                           "points": [
+               {"v0_m_per_s": 181.5, "vr_m_per_s": 0, "error_run_m_per_s": 69.4,
+                "error_comparison_m_per_s": [0]},
+               {"v0_m_per_s": 200, "vr_m_per_s": 71, "error_run_m_per_s": 6,
+                "error_comparison_m_per_s": [-3]},
+               {"v0_m_per_s": 300, "vr_m_per_s": 200, "error_run_m_per_s": 8,
+                "error_comparison_m_per_s": [4]}]},
              "runs": [{"v0_m_per_s": 303.5, "plug_mass_kg": 0.0056, "run_folder": ")"
                                                     << run.string() << R"("}]})";
   const auto r = shell("python3 " + kScripts + "validation-page.py " + out.string(), s.dir);
@@ -87,6 +92,14 @@ TEST(ValidationPage, ComparesEachQuantityWithItsReference) {
     }
   }
   EXPECT_TRUE(limit && plug) << csv;
+  // The rms over the tests that perforated in the experiment (vr > 0): √((6² + 8²)/2) = 7.0711
+  // m/s, the comparison's √((3² + 4²)/2) = 3.5355 m/s; the non-perforating test is left out.
+  EXPECT_NE(csv.find("rms error of vpr over the 2 perforating tests,,,7.0710678"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("rms error of vpr over the 2 perforating tests, paper\",,,3.5355339"),
+            std::string::npos)
+      << csv;
   EXPECT_NE(test::slurp(out / "validation.html").find("calibrated on it"), std::string::npos);
 }
 
