@@ -5,20 +5,20 @@
 // as a sphere's O-grid continues a cylinder's, so that no element degenerates at the tip.
 // Local frame: the tip at the origin, the axis +z, the shoulder at z = Ln (the nose's length).
 // Per quadrant, four blocks below the shoulder:
-//   core        under the shank's core square, tapering to the square of half-width r_l/2 above
-//               the lower parallel z_l (where the nose's radius is r_l = 0.6 R);
+//   core        under the shank's core square, tapering to a flat square of half-width r_l/2;
 //   side shells under the shank's two ring blocks, between the core and the nose's surface,
-//               from the shoulder down to the lower parallel;
+//               from the shoulder down to the lower curve, which runs round the nose from its
+//               height z_l on the axes (where the radius is r_l = 0.6 R) up to the diagonals;
 //   cap         under the core, from its bottom to the nose's surface around the tip.
 // Counts: `along` = round(c / h) elements along the core's sides, the rim's 45° arcs, the lower
-// parallel's and the cap's meridians; `radial` = the shank's across the ring, shells and cap;
-// `down` from the shoulder to the lower parallel, from the mean of the surface's meridian and
-// the core's edge there; `layers` along the shank. The nose's surface patches are gmsh surface
+// curve's pieces and the cap's meridians; `radial` = the shank's across the ring, shells and cap;
+// `down` from the shoulder to the lower curve, from the mean of the surface's meridian and the
+// core's edge there; `layers` along the shank. The nose's surface patches are gmsh surface
 // fillings bounded by its meridians (circle arcs about the sphere's or the ogive's centre, lines
-// on a cone) and parallels (circle arcs about the axis); a hemisphere's are spherical, a cone's
-// and an ogive's lie within a few µm of the surface at these sizes (Coons patches between its
-// meridians). Faces: base (the nose), top, side (the shank), a half also ymin, a quarter xmin
-// and ymin.
+// on a cone), the shoulder's arcs and the lower curve (splines through points of the surface):
+// spherical on a hemisphere; on a cone or an ogive Coons patches, whose nodes are then moved out
+// onto the surface. Faces: base (the nose), top, side (the shank), a half also ymin, a quarter
+// xmin and ymin.
 // Verified by tests/mesher/nose_test.cpp.
 #include "mesher/gmsh_body.hpp"
 #include "solver/core/error.hpp"
@@ -72,12 +72,7 @@ struct Profile {
 // count set as they are made) and surfaces through four, each made once and shared.
 class Blocks {
 public:
-  int point(const Vec3& x) {
-    const int tag = geo::addPoint(x.x(), x.y(), x.z());
-    at_[tag] = x;
-    return tag;
-  }
-  const Vec3& at(int tag) const { return at_.at(tag); }
+  int point(const Vec3& x) { return geo::addPoint(x.x(), x.y(), x.z()); }
 
   void line(int a, int b, int n) { add(a, b, geo::addLine(a, b), n); }
   void arc(int a, int centre, int b, int n) { add(a, b, geo::addCircleArc(a, centre, b), n); }
@@ -113,7 +108,6 @@ public:
   const std::map<std::pair<int, int>, std::pair<int, int>>& curves() const { return curves_; }
 
 private:
-  std::map<int, Vec3> at_;
   std::map<std::pair<int, int>, std::pair<int, int>> curves_; // (a, b) → (tag, elements)
   std::map<std::array<int, 4>, int> faces_;
   std::vector<int> volumes_;
@@ -132,7 +126,7 @@ struct Plan {
   double radius = 0, core = 0, length = 0, nose = 0; // R, c, L, Ln
   double lower = 0, lower_radius = 0;                // z_l, r_l: the lower curve on the axes
   double lower_diagonal = 0;                         // its height on the diagonals
-  double inner_mid = 0, inner_corner = 0;            // heights of the core's bottom
+  double inner = 0;                                  // height of the core's flat bottom
   int along = 1, radial = 1, down = 1, layers = 1;
   Sector sector = Sector::Full;
 };
@@ -162,12 +156,11 @@ Plan plan(const CylinderGeometry& g, const Profile& p, double h) {
   // 3): smallest scaled Jacobian 0.50 / 0.31 / 0.29, shortest L_e 0.42 / 0.37 / 0.52 h; with the
   // core's bottom at 45° from the axes' points only: 0.28 / 0.22 / 0.16 and 0.39 / 0.37 / 0.35 h.
   const double rc = p.r(o.lower_diagonal);
-  o.inner_mid = std::max(o.lower + rl - cl, o.lower_diagonal + (rc - std::numbers::sqrt2 * cl));
-  o.inner_mid = std::min(o.inner_mid, o.lower + 0.65 * (o.nose - o.lower));
-  o.inner_corner = o.inner_mid; // a flat bottom, as a sphere's O-grid's cube
+  o.inner = std::max(o.lower + rl - cl, o.lower_diagonal + (rc - std::numbers::sqrt2 * cl));
+  o.inner = std::min(o.inner, o.lower + 0.65 * (o.nose - o.lower));
   o.along = divisions(o.core, h);
   o.radial = divisions(g.radius - 0.5 * (1 + std::numbers::sqrt2) * o.core, h);
-  const double core_edge = std::hypot(o.core - cl, o.nose - o.inner_mid);
+  const double core_edge = std::hypot(o.core - cl, o.nose - o.inner);
   o.down = divisions(0.5 * (p.arc(o.lower, o.nose) + core_edge), h);
   o.layers = divisions(o.length - o.nose, h);
   return o;
@@ -180,7 +173,7 @@ std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
   const int quadrants = quadrant_count(o.sector), rays = quadrants == 4 ? 4 : quadrants + 1;
   const double ogive_offset = p.ogive - R; // the ogive's centre lies this far beyond the axis
 
-  const int shoulder = b.point(Vec3(0, 0, Ln)), bottom = b.point(Vec3(0, 0, o.inner_mid)),
+  const int shoulder = b.point(Vec3(0, 0, Ln)), bottom = b.point(Vec3(0, 0, o.inner)),
             tip = b.point(Vec3::Zero());
   // A meridian of the nose from point `high` down to point `low`, at azimuth φ.
   const auto meridian = [&](int high, int low, double phi, int n) {
@@ -220,7 +213,7 @@ std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
     const double phi = 0.5 * std::numbers::pi * k;
     edge[k] = b.point(on(c, phi, Ln));
     rim[k] = b.point(on(R, phi, Ln));
-    inner[k] = b.point(on(cl, phi, o.inner_mid));
+    inner[k] = b.point(on(cl, phi, o.inner));
     outer[k] = b.point(on(rl, phi, o.lower));
     b.line(shoulder, edge[k], o.along);
     b.line(edge[k], rim[k], o.radial);
@@ -237,7 +230,7 @@ std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
     const double phi = 0.5 * std::numbers::pi * (k + 0.5);
     const double cs = std::numbers::sqrt2 * c, cls = std::numbers::sqrt2 * cl;
     const int corner = b.point(on(cs, phi, Ln)), rim_d = b.point(on(R, phi, Ln));
-    const int inner_d = b.point(on(cls, phi, o.inner_corner));
+    const int inner_d = b.point(on(cls, phi, o.inner));
     const int outer_d = b.point(on(p.r(o.lower_diagonal), phi, o.lower_diagonal));
     b.line(edge[k], corner, o.along);
     b.line(corner, edge[next], o.along);
