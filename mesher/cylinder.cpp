@@ -139,12 +139,9 @@ void name_faces(const std::string& body, const OGrid& o) {
   }
   const std::size_t quadrants = quadrant_count(o.sector), blocks = 3 * quadrants,
                     arcs = 2 * quadrants;
-  // Each cut ray carries two faces (the core's and the ring's): a quarter's rays on x = 0 and
-  // y = 0, a half's two rays on y = 0.
-  const std::size_t x_cut = o.sector == Sector::Quarter ? 2 : 0,
-                    y_cut = o.sector == Sector::Full   ? 0
-                            : o.sector == Sector::Half ? 4
-                                                       : 2;
+  // Each cut ray carries two faces: the core's and the ring's.
+  const CutRays cuts = cut_rays(o.sector);
+  const std::size_t x_cut = 2 * cuts.x, y_cut = 2 * cuts.y;
   SPHFEM_CHECK(base.size() == blocks && top.size() == blocks && side.size() == arcs &&
                    xmin.size() == x_cut && ymin.size() == y_cut,
                "unexpected cylinder boundary (", base.size(), " base, ", top.size(), " top, ",
@@ -174,6 +171,18 @@ Mat3 frame_along(const Vec3& axis) {
 
 int quadrant_count(Sector sector) {
   return sector == Sector::Full ? 4 : sector == Sector::Half ? 2 : 1;
+}
+
+CutRays cut_rays(Sector sector) {
+  switch (sector) {
+  case Sector::Quarter:
+    return {1, 1};
+  case Sector::Half:
+    return {0, 2};
+  case Sector::Full:
+    break;
+  }
+  return {0, 0};
 }
 
 Mat3 sector_rotation(Sector sector, const Vec3& axis) {

@@ -37,6 +37,13 @@ Mat3 frame_along(const Vec3& axis);
 // are (a quarter: the identity; a half: a turn about y); a clear error for an axis a sector
 // cannot take (a quarter's along +z, a half's in the x–z plane).
 int quadrant_count(Sector sector);
+// The rays of a sector that lie on its cut planes: on x = 0 (a quarter's one) and on y = 0 (a
+// quarter's one, a half's two); each carries the same faces, so a body's cut faces number
+// these times its faces per ray.
+struct CutRays {
+  std::size_t x = 0, y = 0;
+};
+CutRays cut_rays(Sector sector);
 Mat3 sector_rotation(Sector sector, const Vec3& axis);
 void check_sector_axis(Sector sector, const Vec3& axis);
 

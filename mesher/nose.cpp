@@ -40,12 +40,11 @@ using Shape = NoseGeometry::Shape;
 // The nose's meridian: radius r(z) from the tip (z = 0) to the shoulder (z = Ln, r = R).
 struct Profile {
   NoseGeometry nose;
-  Shape shape;
   double radius, length;
   double ogive = 0; // the ogive's arc radius ρ = crh × 2R
 
   Profile(const NoseGeometry& n, double r)
-      : nose(n), shape(n.shape), radius(r), length(n.nose_length(r)), ogive(2 * n.crh * r) {}
+      : nose(n), radius(r), length(n.nose_length(r)), ogive(2 * n.crh * r) {}
 
   double r(double z) const { return nose.radius_at(z, radius); }
 
@@ -177,7 +176,7 @@ std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
             tip = b.point(Vec3::Zero());
   // A meridian of the nose from point `high` down to point `low`, at azimuth φ.
   const auto meridian = [&](int high, int low, double phi, int n) {
-    switch (p.shape) {
+    switch (p.nose.shape) {
     case Shape::Hemispherical:
       b.arc(high, shoulder, low, n);
       return;
@@ -223,7 +222,7 @@ std::vector<int> build_nose(const Plan& o, const Profile& p, Blocks& b) {
     b.line(bottom, inner[k], o.along);
     meridian(outer[k], tip, phi, o.along);
   }
-  const int sphere = p.shape == Shape::Hemispherical ? shoulder : -1;
+  const int sphere = p.nose.shape == Shape::Hemispherical ? shoulder : -1;
   std::vector<int> top;
   for (int k = 0; k < quadrants; ++k) {
     const int next = (k + 1) % rays;
@@ -292,13 +291,11 @@ void name_faces(const std::string& body, const Plan& o) {
       base.push_back(surface);
   }
   // Each cut ray carries five faces: the core's, the shell's and the cap's in the nose, the
-  // core's and the ring's in the shank. A quarter cuts on x = 0 and y = 0, a half twice on y = 0.
+  // core's and the ring's in the shank.
   const std::size_t quadrants = quadrant_count(o.sector), patches = 3 * quadrants,
                     arcs = 2 * quadrants;
-  const std::size_t x_cut = o.sector == Sector::Quarter ? 5 : 0,
-                    y_cut = o.sector == Sector::Full   ? 0
-                            : o.sector == Sector::Half ? 10
-                                                       : 5;
+  const CutRays cuts = cut_rays(o.sector);
+  const std::size_t x_cut = 5 * cuts.x, y_cut = 5 * cuts.y;
   SPHFEM_CHECK(base.size() == patches && top.size() == patches && side.size() == arcs &&
                    xmin.size() == x_cut && ymin.size() == y_cut,
                "unexpected nosed cylinder boundary (", base.size(), " nose, ", top.size(), " top, ",

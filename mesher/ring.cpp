@@ -181,9 +181,9 @@ void name_faces(const std::string& body, const RingGeometry& g, const RingPlan& 
     else
       throw Error(detail::concat("ring surface ", surface, " is on no named face"));
   }
-  // The cut planes: a quarter's x = 0 and y = 0 (one face each), a half's y = 0 (two).
-  const std::size_t n = p.sectors, x_cuts = p.sectors == 2 ? 1 : 0;
-  const std::size_t y_cuts = p.sectors == 2 ? 1 : p.sectors == 4 ? 2 : 0;
+  // One face on each cut ray.
+  const std::size_t n = p.sectors;
+  const auto [x_cuts, y_cuts] = cut_rays(g.sector);
   SPHFEM_CHECK(inner.size() == n && rim.size() == n && bottom.size() == n && top.size() == n &&
                    xmin.size() == x_cuts && ymin.size() == y_cuts,
                "unexpected ring boundary (", inner.size(), " inner, ", rim.size(), " rim, ",

@@ -302,8 +302,8 @@ nlohmann::json perforation_results(const nlohmann::json& summary, const History&
   }
   out["plug"] = {{"mass", plug.mass}, {"diameter", plug.diameter}, {"thickness", plug.thickness}};
   out["time"] = r.time;
-  out["units"] = {{"velocity", "m/s"}, {"mass", "kg"}, {"length", "m"}, {"time", "s"},
-                  {"angle", "degrees"}};
+  out["units"] = {
+      {"velocity", "m/s"}, {"mass", "kg"}, {"length", "m"}, {"time", "s"}, {"angle", "degrees"}};
   return out;
 }
 

@@ -149,8 +149,7 @@ TEST(Report, ComparesWithTheCaseReference) {
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "quantity,reference,value,unit,relative_error,source");
   EXPECT_NE(csv.find("counts.elements,2000,2500,,0.25,\"a wrong value\""), std::string::npos)
       << csv;
-  EXPECT_NE(csv.find("results.plug.mass,0.1,,kg,,\"no plug in a bar\""), std::string::npos)
-      << csv;
+  EXPECT_NE(csv.find("results.plug.mass,0.1,,kg,,\"no plug in a bar\""), std::string::npos) << csv;
 }
 
 TEST(Report, MissingRunIsAClearError) {
