@@ -85,7 +85,8 @@ CLI::App* add_post_section(CLI::App& post, SectionCommand& c) {
   section->footer(
       "Writes into DIR (-o, else RUN/post): section.csv (body,part,polyline,u_m,w_m,x_m,y_m,z_m:\n"
       "the outline polylines, part fe or sph, killed particles as part killed), section.png (the\n"
-      "outlines with equal axis scales in mm), deflection.csv (body,radius_m,deflection_m: the\n"
+      "outlines with equal axis scales in mm over the --field on the cut, with a colour bar),\n"
+      "deflection.csv (body,radius_m,deflection_m: the\n"
       "displacement along the axis averaged in bins of |u|) and section.json. Plane coordinates:\n"
       "w along --axis projected into the plane (default: the in-plane direction closest to z),\n"
       "u = w x n, both from the plane's point. FE bodies are cut through their hexahedra (eroded\n"
@@ -108,6 +109,11 @@ CLI::App* add_post_section(CLI::App& post, SectionCommand& c) {
   section->add_option("--u-range", c.u_range,
                       "U0,U1: draw only U0 <= u <= U1 (m from the plane's point); the CSV and "
                       "deflection keep the whole section");
+  section
+      ->add_option("--field", c.o.field,
+                   "colours the cut: plastic_strain, damage or none (outlines only)")
+      ->check(CLI::IsMember({"plastic_strain", "damage", "none"}))
+      ->capture_default_str();
   section->add_option("-o,--out", c.o.out_dir, "output folder (default: RUN/post)");
   section->add_option("--size", c.size, "image size in pixels, WIDTHxHEIGHT")
       ->capture_default_str();

@@ -25,6 +25,7 @@ struct Fragment {
   Vec3 com = Vec3::Zero(), velocity = Vec3::Zero(); // m, m/s
   long long particles = 0, elements = 0;
   double diameter = 0, thickness = 0; // m
+  double travel = 0; // m: its centre of mass's displacement along the axis since the first frame
 };
 
 // One body's particles and elements at one time. Node arrays may hold nodes no element uses.

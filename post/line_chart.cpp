@@ -160,6 +160,48 @@ std::string tick_label(double v, double step) {
   return s[0] == '-' ? "\u2212" + s.substr(1) : s; // a typographic minus
 }
 
+// A polygon filled by its pixel centres (even–odd rule, scanlines), clipped to `clip`.
+void fill_polygon(Canvas& canvas, const std::vector<double>& x, const std::vector<double>& y,
+                  Rgb colour, const LineChart::Rect& clip) {
+  if (std::any_of(x.begin(), x.end(), [](double v) { return !std::isfinite(v); }) ||
+      std::any_of(y.begin(), y.end(), [](double v) { return !std::isfinite(v); }))
+    return;
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  std::vector<double> crossings;
+  for (int row = std::max(clip.top, int(std::ceil(*lo))); row <= std::min(clip.bottom, int(*hi));
+       ++row) {
+    crossings.clear();
+    for (std::size_t i = 0, j = x.size() - 1; i < x.size(); j = i++)
+      if ((y[i] <= row) != (y[j] <= row))
+        crossings.push_back(x[i] + (row - y[i]) / (y[j] - y[i]) * (x[j] - x[i]));
+    std::sort(crossings.begin(), crossings.end());
+    for (std::size_t k = 0; k + 1 < crossings.size(); k += 2)
+      for (int col = std::max(clip.left, int(std::ceil(crossings[k])));
+           col <= std::min(clip.right, int(std::floor(crossings[k + 1]))); ++col)
+        canvas.blend(col, row, colour, 1.0);
+  }
+}
+
+// The colour bar right of the frame: the scale bottom to top, ticks at nice steps, its label.
+void colour_bar(Canvas& canvas, const ColourScale& scale, const LineChart::Rect& r) {
+  const int left = r.right + 18, right = left + 16;
+  for (int row = r.top; row <= r.bottom; ++row)
+    canvas.fill(left, row, right, row,
+                LineChart::viridis(double(r.bottom - row) / double(r.bottom - r.top)));
+  canvas.frame(left, r.top, right, r.bottom, black);
+  Text ticks(12, VTK_TEXT_LEFT, VTK_TEXT_CENTERED);
+  const double step = nice((scale.max - scale.min) / 5);
+  for (double k = std::ceil(scale.min / step - 1e-9); k * step <= scale.max + 1e-9 * step; ++k) {
+    const double v = k * step;
+    const int row =
+        int(std::lround(r.bottom - (v - scale.min) / (scale.max - scale.min) * (r.bottom - r.top)));
+    canvas.fill(right, row, right + 4, row, black);
+    ticks.draw(canvas, tick_label(v, step), right + 7, row);
+  }
+  Text label(13, VTK_TEXT_CENTERED, VTK_TEXT_TOP, 90);
+  label.draw(canvas, scale.label, right + 50, (r.top + r.bottom) / 2);
+}
+
 } // namespace
 
 LineChart::LineChart(int width, int height) : width_(width), height_(height) {
@@ -174,8 +216,44 @@ void LineChart::add_series(std::string label, std::vector<double> x, std::vector
   series_.push_back({std::move(label), std::move(x), std::move(y), style});
 }
 
+void LineChart::add_patch(std::vector<double> x, std::vector<double> y, double value) {
+  SPHFEM_CHECK(x.size() == y.size() && x.size() >= 3, "patch: ", x.size(), " x values and ",
+               y.size(), " y values, expected the same number, at least 3");
+  patches_.push_back({std::move(x), std::move(y), value});
+}
+
+void LineChart::set_colour_scale(ColourScale scale) {
+  SPHFEM_CHECK(std::isfinite(scale.min) && std::isfinite(scale.max) && scale.max > scale.min,
+               "colour scale ", scale.label, ": [", scale.min, ", ", scale.max,
+               "], expected finite ends, min < max");
+  scale_ = std::move(scale);
+}
+
 LineChart::Rect LineChart::plot_area(int width, int height) {
   return {90, 40, width - 25, height - 60};
+}
+
+LineChart::Rect LineChart::frame() const {
+  Rect r = plot_area(width_, height_);
+  if (scale_)
+    r.right -= 95; // the colour bar, its tick labels and its label
+  return r;
+}
+
+Rgb LineChart::viridis(double t) {
+  static constexpr Rgb stops[] = {{68, 1, 84},    {71, 45, 123},  {59, 82, 139},
+                                  {44, 114, 142}, {33, 145, 140}, {40, 174, 128},
+                                  {94, 201, 98},  {173, 220, 48}, {253, 231, 37}};
+  if (std::isnan(t))
+    return {160, 160, 160};
+  const double s = std::clamp(t, 0.0, 1.0) * (std::size(stops) - 1);
+  const std::size_t k = std::min(std::size_t(s), std::size(stops) - 2);
+  const double f = s - double(k);
+  auto mix = [f](unsigned char a, unsigned char b) {
+    return static_cast<unsigned char>(std::lround(a + f * (b - a)));
+  };
+  return {mix(stops[k].r, stops[k + 1].r), mix(stops[k].g, stops[k + 1].g),
+          mix(stops[k].b, stops[k + 1].b)};
 }
 
 Rgb LineChart::palette(std::size_t i) {
@@ -223,6 +301,8 @@ LineChart::Axis LineChart::x_axis() const {
   std::vector<const std::vector<double>*> v;
   for (const auto& s : series_)
     v.push_back(&s.x);
+  for (const auto& p : patches_)
+    v.push_back(&p.x);
   const auto a = axis_for(v, log_x_);
   return {a[0], a[1], a[2], log_x_};
 }
@@ -231,6 +311,8 @@ LineChart::Axis LineChart::y_axis() const {
   std::vector<const std::vector<double>*> v;
   for (const auto& s : series_)
     v.push_back(&s.y);
+  for (const auto& p : patches_)
+    v.push_back(&p.y);
   const auto a = axis_for(v, log_y_);
   return {a[0], a[1], a[2], log_y_};
 }
@@ -242,7 +324,7 @@ void LineChart::axes(Axis& x, Axis& y) const {
     return;
   SPHFEM_CHECK(!log_x_ && !log_y_, "a chart with equal aspect cannot have a logarithmic axis");
   // The axis with more pixels per data unit is widened about its centre to the other's scale.
-  const Rect r = plot_area(width_, height_);
+  const Rect r = frame();
   const double kx = (r.right - r.left) / (x.max - x.min), ky = (r.bottom - r.top) / (y.max - y.min);
   Axis& wide = kx > ky ? x : y;
   const double range = kx > ky ? (r.right - r.left) / ky : (r.bottom - r.top) / kx;
@@ -251,7 +333,7 @@ void LineChart::axes(Axis& x, Axis& y) const {
 }
 
 void LineChart::pixel(double x, double y, double& px, double& py) const {
-  const Rect r = plot_area(width_, height_);
+  const Rect r = frame();
   Axis ax, ay;
   axes(ax, ay);
   px = r.left + (on_axis(x, ax.log) - ax.min) / (ax.max - ax.min) * (r.right - r.left);
@@ -260,7 +342,7 @@ void LineChart::pixel(double x, double y, double& px, double& py) const {
 
 std::vector<unsigned char> LineChart::render() const {
   Canvas canvas(width_, height_);
-  const Rect r = plot_area(width_, height_);
+  const Rect r = frame();
   Axis ax, ay;
   axes(ax, ay);
 
@@ -299,9 +381,18 @@ std::vector<unsigned char> LineChart::render() const {
   ticks(ax, x_line);
   ticks(ay, y_line);
 
+  // Patches beneath the curves, in the order given (a later one covers an earlier one).
+  const Rect inside{r.left + 1, r.top + 1, r.right - 1, r.bottom - 1};
+  for (const auto& p : patches_) {
+    std::vector<double> px(p.x.size()), py(p.y.size());
+    for (std::size_t i = 0; i < p.x.size(); ++i)
+      pixel(p.x[i], p.y[i], px[i], py[i]);
+    const double t = scale_ ? (p.value - scale_->min) / (scale_->max - scale_->min) : 0.5;
+    fill_polygon(canvas, px, py, viridis(t), inside);
+  }
+
   // Curves, each composited once from its coverage.
   Coverage all(width_, height_);
-  const Rect inside{r.left + 1, r.top + 1, r.right - 1, r.bottom - 1};
   for (const auto& s : series_) {
     Coverage c(width_, height_);
     double arc = 0, prev_x = 0, prev_y = 0;
@@ -364,6 +455,9 @@ std::vector<unsigned char> LineChart::render() const {
       legend.draw(canvas, series_[i].label, x0 + pad + sample + 6, y);
     }
   }
+
+  if (scale_)
+    colour_bar(canvas, *scale_, r);
 
   Text title(16, VTK_TEXT_CENTERED, VTK_TEXT_BOTTOM, 0, true);
   title.draw(canvas, title_, (r.left + r.right) / 2, r.top - 12);

@@ -136,6 +136,42 @@ FragmentSource select_body(const Frame& f, int body) {
   return s;
 }
 
+// Each fragment's travel along `axis`: Σ m (x − x0) / Σ m over its particles and elements,
+// `start` being the same body in the first frame (same particles, elements and nodes).
+void set_travel(const FragmentSource& start, const FragmentSource& now, FragmentSet& set,
+                const Vec3& axis) {
+  std::vector<double> moved(set.fragments.size(), 0.0), mass(set.fragments.size(), 0.0);
+  for (std::size_t i = 0; i < now.x_p.size(); ++i)
+    if (const int f = set.fragment_p[i]; f >= 0) {
+      moved[f] += now.m_p[i] * (now.x_p[i] - start.x_p[i]).dot(axis);
+      mass[f] += now.m_p[i];
+    }
+  for (std::size_t k = 0; k < now.hex_e.size(); ++k)
+    if (const int f = set.fragment_e[k]; f >= 0) {
+      Vec3 shift = Vec3::Zero();
+      for (Index n : now.hex_e[k])
+        shift += (now.x_n[n] - start.x_n[n]) / 8.0;
+      moved[f] += now.m_e[k] * shift.dot(axis);
+      mass[f] += now.m_e[k];
+    }
+  for (std::size_t f = 0; f < set.fragments.size(); ++f)
+    set.fragments[f].travel = mass[f] > 0 ? moved[f] / mass[f] : 0.0;
+}
+
+// The frame-wide masks of the target's pieces outside its main fragment (PlugResult::detached_*).
+void detached(const Frame& f, int body, const FragmentSet& set, PlugResult& r) {
+  r.detached_p.assign(f.x_p.size(), 0);
+  r.detached_e.assign(f.hex_e.size(), 0);
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < f.x_p.size(); ++i)
+    if (f.body_p[i] == body)
+      r.detached_p[i] = set.fragment_p[j++] != 0;
+  j = 0;
+  for (std::size_t k = 0; k < f.hex_e.size(); ++k)
+    if (f.body_e[k] == body)
+      r.detached_e[k] = set.fragment_e[j++] != 0;
+}
+
 // Momentum of each body (element momentum = ρ V × mean node velocity), kg m/s.
 std::map<int, Vec3> momentum_by_body(const Frame& f) {
   std::map<int, Vec3> p;
@@ -349,6 +385,7 @@ PlugResult write_plug(const PlugOptions& o) {
                ": no particles or elements of body ", model.body_names[body]);
 
   PlugResult r;
+  r.body = model.body_names[body];
   r.time = frames[chosen].time;
   const Vec3 p0 = momentum_of_others(first, body);
   std::string axis_from = "+z: the other bodies have no momentum in the first frame";
@@ -358,11 +395,13 @@ PlugResult write_plug(const PlugOptions& o) {
   }
   const double reach = o.connect * spacing;
   FragmentSet set = find_fragments(source, reach, spacing, r.impact_axis);
-  r.fragments = set.fragments;
-  r.main = r.fragments.empty() ? -1 : 0;
-  r.plug = find_plug(r.fragments, r.impact_axis, o.min_pieces);
+  r.main = set.fragments.empty() ? -1 : 0;
+  r.plug = find_plug(set.fragments, r.impact_axis, o.min_pieces);
   r.passed_through = passed_through(first, frame, body, r.impact_axis, source, set);
   r.debris_mass = set.debris_mass;
+  set_travel(select_body(first, body), source, set, r.impact_axis);
+  r.fragments = set.fragments;
+  detached(frame, body, set, r);
 
   const fs::path dir = o.out_dir.empty() ? o.run / "post" : o.out_dir;
   std::error_code failed;
@@ -393,7 +432,8 @@ PlugResult write_plug(const PlugOptions& o) {
                               {"particles", f.particles},
                               {"elements", f.elements},
                               {"diameter_m", f.diameter},
-                              {"thickness_m", f.thickness}});
+                              {"thickness_m", f.thickness},
+                              {"travel_m", f.travel}});
   j["main"] = r.main < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.main);
   j["plug"] = r.plug < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.plug);
   j["projectile_passed_through"] = r.passed_through;
@@ -401,7 +441,7 @@ PlugResult write_plug(const PlugOptions& o) {
 
   std::ostringstream csv;
   csv << "fragment,role,mass [kg],com_x [m],com_y [m],com_z [m],vx [m/s],vy [m/s],vz [m/s],"
-         "v_axial [m/s],particles,elements,diameter [m],thickness [m]\n";
+         "v_axial [m/s],particles,elements,diameter [m],thickness [m],travel [m]\n";
   for (std::size_t f = 0; f < r.fragments.size(); ++f) {
     const Fragment& x = r.fragments[f];
     csv << f << ","
@@ -413,7 +453,8 @@ PlugResult write_plug(const PlugOptions& o) {
       for (int c = 0; c < 3; ++c)
         csv << "," << number((*v)[c]);
     csv << "," << number(x.velocity.dot(r.impact_axis)) << "," << x.particles << "," << x.elements
-        << "," << number(x.diameter) << "," << number(x.thickness) << "\n";
+        << "," << number(x.diameter) << "," << number(x.thickness) << "," << number(x.travel)
+        << "\n";
   }
   write_text_atomically(r.csv, csv.str());
 

@@ -4,6 +4,8 @@
 // cell density × volume of the trilinear hexahedron on its current nodes.
 // Impact axis: the direction of the other bodies' total momentum in the first frame (element
 // momentum = ρ V × mean node velocity), else +z if they have none; plug.json says which.
+// A fragment's travel: its centre of mass's displacement along the impact axis since the first
+// frame (the same particles and elements there; element positions at the mean of their nodes).
 // Main = the most massive fragment; plug = the most massive other fragment moving along the
 // impact axis (velocity · axis > 0), if any. Passed through: the nose of the other body with the
 // largest momentum along the axis in the first frame (the projectile) lies beyond the target's
@@ -35,12 +37,16 @@ struct PlugOptions {
 };
 
 struct PlugResult {
-  double time = 0; // s
+  std::string body; // the target's name
+  double time = 0;  // s
   Vec3 impact_axis = Vec3::UnitZ();
   std::vector<Fragment> fragments; // most massive first
   int main = -1, plug = -1;        // indices into fragments, -1: none
   bool passed_through = false;     // the projectile's path through the target is open
   double debris_mass = 0;          // kg: killed particles and eroded elements
+  // Per particle and per element of the frame (all bodies, in the frame's order): 1 for the
+  // target's pieces that are not part of its main fragment (plug, other fragments, debris).
+  std::vector<char> detached_p, detached_e;
   std::filesystem::path json, csv, png;
 };
 

@@ -476,6 +476,21 @@ Report write_report(const ReportOptions& o) {
                   std::string("Centre-of-mass velocity v") + axis + " of each body (m/s).");
   }
 
+  // The fragments first: the section leaves the pieces that left the target out of its deflection.
+  std::optional<PlugResult> fragments;
+  std::string no_fragments;
+  try {
+    PlugOptions plug;
+    plug.run = o.run;
+    plug.out_dir = dir;
+    fragments = write_plug(plug);
+    summary["results"] = perforation_results(summary, history, *fragments, fragments->body);
+    write_text_atomically(summary_file, summary.dump(2) + "\n");
+  } catch (const std::exception& e) {
+    report.skipped.push_back(std::string("plug: ") + e.what());
+    no_fragments = e.what();
+  }
+
   h << "<h2>Section</h2>\n";
   try {
     const Model model = read_model_h5(o.run / "model.h5");
@@ -487,6 +502,10 @@ Report write_report(const ReportOptions& o) {
       }
     SectionOptions section;
     section.run = o.run;
+    if (fragments) {
+      section.leave_out_p = fragments->detached_p;
+      section.leave_out_e = fragments->detached_e;
+    }
     section.point = 0.5 * (low + high);
     section.normal = Vec3::UnitY();
     section.out_dir = dir;
@@ -511,43 +530,43 @@ Report write_report(const ReportOptions& o) {
     }
     const SectionResult cut = write_section(section);
     page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) + " µs " +
-                             where + " (section.csv).");
+                             where + ", coloured by the equivalent plastic strain (section.csv).");
+    h << "<p>Largest displacement along the section's w axis (deflection.csv, mm):";
     for (const auto& [body, deflection] : cut.max_deflection)
-      h << "<p>Largest permanent deflection of " << escape_html(body) << ": "
-        << format("%.4g", deflection * 1e3) << " mm.</p>\n";
+      h << " " << escape_html(body) << " " << format("%.4g", deflection * 1e3)
+        << (fragments && body == fragments->body ? " (the pieces that left it, plug and debris, "
+                                                   "left out: the plate's deflection)"
+                                                 : "")
+        << ";";
+    h << " a body that moves freely (the projectile) measures its travel.</p>\n";
+    if (fragments && fragments->plug >= 0)
+      h << "<p>The plug's travel along the impact axis: "
+        << format("%.4g", fragments->fragments[fragments->plug].travel * 1e3)
+        << " mm (its centre of mass since the first frame, plug.json).</p>\n";
   } catch (const std::exception& e) {
     report.skipped.push_back(std::string("section: ") + e.what());
     h << "<p>No section: " << escape_html(e.what()) << "</p>\n";
   }
 
   h << "<h2>Fragments and plug</h2>\n";
-  try {
-    PlugOptions plug;
-    plug.run = o.run;
-    plug.out_dir = dir;
-    const PlugResult fragments = write_plug(plug);
-    const auto plug_json = nlohmann::json::parse(slurp(fragments.json));
-    summary["results"] =
-        perforation_results(summary, history, fragments, plug_json.value("body", std::string()));
-    write_text_atomically(summary_file, summary.dump(2) + "\n");
-    page.figure(fragments.png, "Fragments of the target at t = " +
-                                   format("%.4g", fragments.time * 1e6) + " µs (plug.json).");
+  if (fragments) {
+    page.figure(fragments->png, "Fragments of the target at t = " +
+                                    format("%.4g", fragments->time * 1e6) + " µs (plug.json).");
     h << "<table><tr><th>fragment</th><th>mass (kg)</th><th>velocity along the impact axis "
-         "(m/s)</th><th>diameter (mm)</th><th>thickness (mm)</th></tr>\n";
-    for (std::size_t k = 0; k < fragments.fragments.size() && k < 10; ++k) {
-      const Fragment& f = fragments.fragments[k];
+         "(m/s)</th><th>diameter (mm)</th><th>thickness (mm)</th><th>travel (mm)</th></tr>\n";
+    for (std::size_t k = 0; k < fragments->fragments.size() && k < 10; ++k) {
+      const Fragment& f = fragments->fragments[k];
       const int index = static_cast<int>(k);
-      h << "<tr><td>" << k << (index == fragments.plug ? " (plug)" : "")
-        << (index == fragments.main ? " (target)" : "") << "</td><td>" << format("%.4g", f.mass)
-        << "</td><td>" << format("%.4g", f.velocity.dot(fragments.impact_axis)) << "</td><td>"
+      h << "<tr><td>" << k << (index == fragments->plug ? " (plug)" : "")
+        << (index == fragments->main ? " (target)" : "") << "</td><td>" << format("%.4g", f.mass)
+        << "</td><td>" << format("%.4g", f.velocity.dot(fragments->impact_axis)) << "</td><td>"
         << format("%.4g", f.diameter * 1e3) << "</td><td>" << format("%.4g", f.thickness * 1e3)
-        << "</td></tr>\n";
+        << "</td><td>" << format("%.4g", f.travel * 1e3) << "</td></tr>\n";
     }
     h << "</table>\n<p>Debris (killed particles, eroded elements): "
-      << format("%.4g", fragments.debris_mass) << " kg.</p>\n";
-  } catch (const std::exception& e) {
-    report.skipped.push_back(std::string("plug: ") + e.what());
-    h << "<p>No fragments: " << escape_html(e.what()) << "</p>\n";
+      << format("%.4g", fragments->debris_mass) << " kg.</p>\n";
+  } else {
+    h << "<p>No fragments: " << escape_html(no_fragments) << "</p>\n";
   }
 
   h << "<h2>Against the reference</h2>\n";

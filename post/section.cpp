@@ -141,8 +141,16 @@ struct Polyline {
   std::vector<Vec3> x;
 };
 
+// A piece of the cut coloured by the field: a cut hexahedron's polygon or a particle's square.
+struct Patch {
+  std::vector<Vec3> x; // on the plane, in order around it
+  double value;
+  double depth; // distance of a particle from the plane (paints nearest last), 0 for elements
+};
+
 struct BodySection {
   std::vector<Polyline> polylines;
+  std::vector<Patch> patches;
   std::vector<Vec3> killed;                      // killed particles near the plane
   std::vector<std::array<double, 3>> profile;    // (|u| m, displacement·ŵ m, weight)
   double bin = 0;                                // bin width of the profile, m
@@ -150,12 +158,43 @@ struct BodySection {
   double max_deflection = 0;                     // m
 };
 
+// The field's array, or null if the data has none (an elastic run) or no field is drawn.
+vtkDataArray* field_array(vtkDataSetAttributes* data, const std::string& field,
+                          const fs::path& file) {
+  if (field == "none")
+    return nullptr;
+  vtkDataArray* a = data->GetArray(field.c_str());
+  SPHFEM_CHECK(!a || a->GetNumberOfComponents() == 1, file.string(), ": array ", field, " has ",
+               a->GetNumberOfComponents(), " components, expected 1");
+  return a;
+}
+
+// The points where the plane crosses a cell's edges, ordered by angle about their mean in the
+// plane (a plane cuts a convex cell in a convex polygon).
+std::vector<Vec3> cut_polygon(std::vector<Vec3> points, const Plane& plane) {
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points)
+    mean += p / double(points.size());
+  auto angle = [&](const Vec3& p) {
+    return std::atan2((p - mean).dot(plane.w), (p - mean).dot(plane.u));
+  };
+  std::sort(points.begin(), points.end(),
+            [&](const Vec3& a, const Vec3& b) { return angle(a) < angle(b); });
+  return points;
+}
+
+bool left_out(const std::vector<char>& mask, vtkIdType i) {
+  return std::size_t(i) < mask.size() && mask[std::size_t(i)] != 0;
+}
+
 // FE bodies: outline from the cut boundary faces, profile from the cut hexahedron edges.
 void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& selected,
-            std::map<int, BodySection>& sections) {
+            const SectionOptions& o, std::map<int, BodySection>& sections) {
+  const std::string& field = o.field;
   vtkUnstructuredGrid* grid = frame.fe;
   const fs::path& file = frame.fe_file;
   vtkDataArray* u = array(grid->GetPointData(), "displacement", file, 3);
+  vtkDataArray* value = field_array(grid->GetCellData(), field, file);
   vtkDataArray* body = array(grid->GetCellData(), "body_id", file, 1);
   vtkDataArray* ghost = grid->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
   const vtkIdType n_points = grid->GetNumberOfPoints();
@@ -196,6 +235,7 @@ void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& sel
       slot = {slot.first + 1, face};
     }
     bool cut = false;
+    std::vector<Vec3> polygon;
     for (const auto& e : edges) {
       vtkIdType a = ids[e[0]], c = ids[e[1]];
       if ((d[a] < 0) == (d[c] < 0))
@@ -203,13 +243,17 @@ void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& sel
       cut = true;
       if (a > c)
         std::swap(a, c);
-      if (!cut_edges[b].insert({a, c}).second)
-        continue;
       const double t = d[a] / (d[a] - d[c]);
       const Vec3 xi = x[a] + t * (x[c] - x[a]), ui = disp[a] + t * (disp[c] - disp[a]);
+      polygon.push_back(xi);
+      if (left_out(o.leave_out_e, k) || !cut_edges[b].insert({a, c}).second)
+        continue;
       sections[b].profile.push_back(
           {std::abs((xi - plane.point).dot(plane.u)), ui.dot(plane.w), 1.0});
     }
+    if (value && polygon.size() >= 3)
+      sections[b].patches.push_back(
+          {cut_polygon(std::move(polygon), plane), value->GetComponent(k, 0), 0.0});
     if (cut) { // the element size: its longest edge (a plate's in-plane size), reference
       double longest = 0;
       for (const auto& e : edges) {
@@ -255,10 +299,13 @@ void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& sel
 
 // SPH bodies: outline of the particles near the plane, killed ones and the profile in the slab.
 void cut_sph(const Frame& frame, const Plane& plane, const Bodies& bodies,
-             const std::vector<bool>& selected, std::map<int, BodySection>& sections) {
+             const std::vector<bool>& selected, const SectionOptions& o,
+             std::map<int, BodySection>& sections) {
+  const std::string& field = o.field;
   vtkUnstructuredGrid* grid = frame.sph;
   const fs::path& file = frame.sph_file;
   vtkPointData* pd = grid->GetPointData();
+  vtkDataArray* value = field_array(pd, field, file);
   vtkDataArray* u = array(pd, "displacement", file, 3);
   vtkDataArray* h = array(pd, "h", file, 1);
   vtkDataArray* mass = array(pd, "mass", file, 1);
@@ -287,12 +334,19 @@ void cut_sph(const Frame& frame, const Plane& plane, const Bodies& bodies,
       continue;
     }
     const Vec3 r = x - plane.point;
+    if (value && d < 0.75 * s) { // the nearest lattice layer, or the two a plane between halves
+      std::vector<Vec3> square;
+      for (const auto& [su, sw] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}})
+        square.push_back(x - plane.distance(x) * plane.n + 0.5 * s * (su * plane.u + sw * plane.w));
+      sections[b].patches.push_back({std::move(square), value->GetComponent(i, 0), d});
+    }
     Cloud& c = clouds[b];
     c.x.emplace_back(r.dot(plane.u), r.dot(plane.w));
     c.area.push_back(tent * mass->GetComponent(i, 0) / density->GetComponent(i, 0) / s);
     c.spacing.push_back(s);
     u->GetTuple(i, disp.data());
-    sections[b].profile.push_back({std::abs(c.x.back().x()), disp.dot(plane.w), tent});
+    if (!left_out(o.leave_out_p, i))
+      sections[b].profile.push_back({std::abs(c.x.back().x()), disp.dot(plane.w), tent});
   }
   for (auto& [b, c] : clouds) {
     double spacing = 0;
@@ -357,6 +411,44 @@ std::string plane_name(const Plane& plane) {
   return "Section";
 }
 
+// The field's patches of every body, in mm, beneath the outlines: elements first, then particles
+// farthest from the plane first; its colour scale from 0 (damage: to 1, else to the largest
+// value drawn). Empty if no patch carries the field.
+std::optional<ColourScale> draw_field(LineChart& chart, std::map<int, BodySection>& sections,
+                                      const Plane& plane, const SectionOptions& o) {
+  std::vector<const Patch*> patches;
+  for (const auto& [b, s] : sections)
+    for (const Patch& p : s.patches) {
+      Vec3 mean = Vec3::Zero();
+      for (const Vec3& x : p.x)
+        mean += x / double(p.x.size());
+      const double u = (mean - plane.point).dot(plane.u);
+      if (!o.u_range || (u >= (*o.u_range)[0] && u <= (*o.u_range)[1]))
+        patches.push_back(&p);
+    }
+  if (patches.empty())
+    return std::nullopt;
+  std::stable_sort(patches.begin(), patches.end(),
+                   [](const Patch* a, const Patch* b) { return a->depth > b->depth; });
+  ColourScale scale{o.field == "damage" ? "damage D (-)" : "equivalent plastic strain (-)", 0, 1};
+  if (o.field != "damage") {
+    double largest = 0;
+    for (const Patch* p : patches)
+      largest = std::max(largest, p->value);
+    scale.max = largest > 0 ? largest : 1;
+  }
+  chart.set_colour_scale(scale);
+  for (const Patch* p : patches) {
+    std::vector<double> u_mm, w_mm;
+    for (const Vec3& x : p->x) {
+      u_mm.push_back(1e3 * (x - plane.point).dot(plane.u));
+      w_mm.push_back(1e3 * (x - plane.point).dot(plane.w));
+    }
+    chart.add_patch(std::move(u_mm), std::move(w_mm), p->value);
+  }
+  return scale;
+}
+
 } // namespace
 
 void clip_polyline_u(std::vector<double>& u, std::vector<double>& w, double lo, double hi) {
@@ -413,6 +505,8 @@ SectionResult write_section(const SectionOptions& o) {
   // Everything is read and checked before anything is written.
   const Plane plane = make_plane(o);
   (void)LineChart(o.width, o.height); // checks the size
+  SPHFEM_CHECK(o.field == "plastic_strain" || o.field == "damage" || o.field == "none", "--field ",
+               o.field, ": expected plastic_strain, damage or none");
   if (const auto& r = o.u_range)
     SPHFEM_CHECK(std::isfinite((*r)[0]) && std::isfinite((*r)[1]) && (*r)[0] < (*r)[1],
                  "--u-range ", (*r)[0], ",", (*r)[1], ": expected U0,U1 in m with U0 < U1");
@@ -425,11 +519,18 @@ SectionResult write_section(const SectionOptions& o) {
                  (o.run / "model.h5").string(), " (bodies: ", list(bodies.names), ")");
     selected[it - bodies.names.begin()] = true;
   }
+  auto check_mask = [&](const std::vector<char>& mask, vtkUnstructuredGrid* grid, bool cells) {
+    const vtkIdType n = !grid ? 0 : cells ? grid->GetNumberOfCells() : grid->GetNumberOfPoints();
+    SPHFEM_CHECK(mask.empty() || vtkIdType(mask.size()) == n, "section: ", mask.size(),
+                 " flags to leave out, the frame has ", n, cells ? " cells" : " particles");
+  };
+  check_mask(o.leave_out_p, frame.sph, false);
+  check_mask(o.leave_out_e, frame.fe, true);
   std::map<int, BodySection> sections;
   if (frame.fe)
-    cut_fe(frame, plane, selected, sections);
+    cut_fe(frame, plane, selected, o, sections);
   if (frame.sph)
-    cut_sph(frame, plane, bodies, selected, sections);
+    cut_sph(frame, plane, bodies, selected, o, sections);
   std::erase_if(sections, [](const auto& s) { return s.second.polylines.empty(); });
   char when[64];
   std::snprintf(when, sizeof when, "%.4g", frame.time * 1e6);
@@ -464,6 +565,7 @@ SectionResult write_section(const SectionOptions& o) {
   chart.set_x_label("u (mm)");
   chart.set_y_label("w (mm)");
   chart.set_equal_aspect(true);
+  const auto field = draw_field(chart, sections, plane, o);
   nlohmann::json json_bodies = nlohmann::json::object();
   std::size_t colour = 0;
   for (const auto& [b, s] : sections) {
@@ -519,6 +621,9 @@ SectionResult write_section(const SectionOptions& o) {
                          {"bodies", json_bodies}};
   if (o.u_range)
     json["u_range_m"] = {(*o.u_range)[0], (*o.u_range)[1]};
+  json["field"] = field ? nlohmann::json(o.field) : nlohmann::json(nullptr);
+  if (field)
+    json["field_range"] = {field->min, field->max};
   std::ostringstream json_out;
   json_out << json.dump(2) << "\n";
   finish(json_out, result.json);

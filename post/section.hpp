@@ -22,10 +22,16 @@
 //   section.csv     body,part,polyline,u_m,w_m,x_m,y_m,z_m — one row per vertex, part fe|sph,
 //                   polylines numbered per body from 0 (closed ones repeat their first vertex);
 //                   killed particles as rows with part killed and polyline -1
-//   section.png     the polylines with equal axis scales in mm, one colour per body; with a
-//                   u range, only the part of the section inside it (the data files keep all)
+//   section.png     the polylines with equal axis scales in mm, one colour per body, over the
+//                   field (plastic strain by default, or damage) on the cut with its colour bar:
+//                   each live hexahedron the plane cuts as its polygon (the plane's crossings of
+//                   its edges), each live particle within 0.75 Δp of the plane as a square of
+//                   side Δp (the nearest painted last); with a u range, only the part of the
+//                   section inside it (the data files keep all). A run without the field (an
+//                   elastic one) is drawn as outlines only.
 //   deflection.csv  body,radius_m,deflection_m
-//   section.json    {time_s, plane: {point_m, normal}, axis, u_axis, [u_range_m],
+//   section.json    {time_s, plane: {point_m, normal}, axis, u_axis, [u_range_m], field (null
+//                    if none was drawn), [field_range],
 //                    bodies: {name: {max_deflection_m, polylines}}}
 // Verified by tests/post/section_test.cpp.
 #pragma once
@@ -49,8 +55,12 @@ struct SectionOptions {
   std::vector<std::string> bodies; // empty: all bodies
   std::optional<Vec3> axis;        // deflection axis; empty: the in-plane direction closest to z
   std::optional<std::array<double, 2>> u_range; // the picture's window along u, m; empty: all
-  std::filesystem::path out_dir;                // empty: OUT/post
-  int width = 900, height = 560;                // PNG pixels
+  std::string field = "plastic_strain";         // colours the cut: plastic_strain, damage, none
+  // Left out of the deflection profile (not of the outline), indexed as the frame's particles and
+  // cells; empty: none. The report leaves out the pieces that left the target (PlugResult).
+  std::vector<char> leave_out_p, leave_out_e;
+  std::filesystem::path out_dir; // empty: OUT/post
+  int width = 900, height = 560; // PNG pixels
 };
 
 struct SectionResult {

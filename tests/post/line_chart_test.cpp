@@ -192,3 +192,39 @@ TEST(LineChart, EqualAspectWithALogAxisIsAnError) {
   chart.set_log_x(true);
   EXPECT_THROW(chart.render(), sphfem::Error);
 }
+
+// A field: patches take the colour of their value on the scale (viridis: its published ends and
+// middle, #440154, #21918C, #FDE725), values beyond the scale its end colours; the colour bar's
+// margin narrows the frame, and the bar runs from the low colour at the bottom to the high one.
+TEST(LineChart, PatchesTakeTheirScaleColourBesideAColourBar) {
+  EXPECT_EQ(LineChart::viridis(0).r, 0x44);
+  EXPECT_EQ(LineChart::viridis(0).b, 0x54);
+  EXPECT_EQ(LineChart::viridis(0.5).g, 0x91);
+  EXPECT_EQ(LineChart::viridis(1).g, 0xE7);
+  EXPECT_EQ(LineChart::viridis(7).r, LineChart::viridis(1).r); // clamped
+
+  LineChart chart(W, H);
+  chart.set_colour_scale({"strain (-)", 0, 2});
+  chart.add_patch({0, 4, 4, 0}, {0, 0, 4, 4}, 1);     // the middle of the scale
+  chart.add_patch({6, 10, 10, 6}, {0, 0, 4, 4}, 9);   // beyond it: the top colour
+  chart.add_patch({0, 10, 10, 0}, {6, 6, 10, 10}, 0); // the bottom colour
+  const auto frame = chart.frame(), area = LineChart::plot_area(W, H);
+  EXPECT_EQ(frame.right, area.right - 95);
+  const auto pixels = rendered(chart);
+  auto same = [&](double x, double y, Rgb c) {
+    double px, py;
+    chart.pixel(x, y, px, py);
+    const Rgb p = pixels.at(int(std::lround(px)), int(std::lround(py)));
+    return p.r == c.r && p.g == c.g && p.b == c.b;
+  };
+  EXPECT_TRUE(same(1.3, 1.3, LineChart::viridis(0.5)));
+  EXPECT_TRUE(same(8.7, 2.7, LineChart::viridis(1)));
+  EXPECT_TRUE(same(3.3, 8.1, LineChart::viridis(0)));
+  EXPECT_TRUE(same(5.1, 2.1, Rgb{255, 255, 255})); // between the patches, off the grid lines
+  const int bar = frame.right + 26;
+  EXPECT_TRUE(pixels.near(bar, frame.bottom - 2, LineChart::viridis(0), 1, 10));
+  EXPECT_TRUE(pixels.near(bar, frame.top + 2, LineChart::viridis(1), 1, 10));
+
+  EXPECT_THROW(chart.add_patch({0, 1}, {0, 1}, 0), sphfem::Error);
+  EXPECT_THROW(chart.set_colour_scale({"flat", 1, 1}), sphfem::Error);
+}

@@ -418,6 +418,29 @@ TEST(PostPlug, AProjectileBeyondTheRearFaceHasPerforatedWithoutAPlug) {
     fs::remove_all(dir);
 }
 
+// A target that flies freely (no force reaches it: the block rests 3 mm away and the plate moves
+// off at 5 m/s) travels v·t: its centre of mass's displacement since the first frame, from
+// kinematics alone. The impact axis is +z (the other body has no momentum), so travel < 0.
+TEST(PostPlug, AFreeTargetTravelsItsVelocityTimesTime) {
+  test::Scratch scratch("plug_travel");
+  const fs::path& dir = scratch.dir;
+  std::ofstream(dir / "case.yaml") << test::punch_case(0.004, 0.002, 0.004);
+  const fs::path out = dir / "out";
+  auto r = run_sphfem("run " + (dir / "case.yaml").string() + " -o " + out.string() +
+                          " -q --set 'bodies.projectile.velocity=[0,0,0]' --set "
+                          "'bodies.plate.velocity=[0,0,-5]'",
+                      dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_sphfem("post plug " + out.string() + " -o " + (dir / "post").string(), dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(dir / "post" / "plug.json"));
+  ASSERT_EQ(j["fragments"].size(), 1u);
+  const double t = j["time_s"].get<double>(), travel = j["fragments"][0]["travel_m"].get<double>();
+  std::printf("free plate: travel %.6g m after %.4g s (v t = %.6g m)\n", travel, t, -5 * t);
+  EXPECT_NEAR(travel, -5 * t, 1e-3 * 5 * t);
+  EXPECT_NE(slurp(dir / "post" / "fragments.csv").find(",travel [m]\n"), std::string::npos);
+}
+
 TEST(PostPlug, SeveralParticleBodiesNeedBody) {
   const fs::path dir =
       fs::temp_directory_path() / ("sphfem_plug_bodies_" + std::to_string(::getpid()));

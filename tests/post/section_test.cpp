@@ -19,6 +19,7 @@
 #include <vtkPoints.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <nlohmann/json.hpp>
@@ -349,6 +350,76 @@ TEST(Section, BentPlateGivesTheDeflectionProfile) {
   EXPECT_NEAR(json["bodies"]["body0"]["max_deflection_m"].get<double>(), a, 0.01 * a);
   EXPECT_EQ(json["bodies"]["body0"]["polylines"].get<int>(), 1);
   EXPECT_NEAR(json["time_s"].get<double>(), 1e-5, 1e-18);
+
+  // The cells of the cut row within R/2 of the centre (|i − 10| ≤ 5) left out, as the report
+  // leaves out a plug: the profile starts at their outer edges |u| = 5.5 e, where the bend is
+  // a (1 − (11/21)²); the outline keeps them.
+  SectionOptions rim = o;
+  rim.out_dir = run / "rim";
+  rim.leave_out_e.assign(21 * 21, 0);
+  for (int i = 5; i <= 15; ++i)
+    rim.leave_out_e[10 * 21 + i] = 1;
+  const auto kept = write_section(rim);
+  EXPECT_NEAR(kept.max_deflection.at("body0"), a * (1 - 121.0 / 441), 0.01 * a);
+  EXPECT_EQ(nlohmann::json::parse(slurp(kept.json))["bodies"]["body0"]["polylines"], 1);
+  rim.leave_out_e.pop_back();
+  EXPECT_THROW(write_section(rim), sphfem::Error);
+}
+
+// The cut coloured by a cell field: an FE box 4 × 3 × 2 whose cells carry plastic strain 0.1 ×
+// (their index along x + 1); the plane y = 15 mm cuts the middle row, so each of the four values
+// fills two 10 × 10 mm squares of the picture in its own colour of the scale 0 … 0.4.
+TEST(Section, FieldColoursTheCut) {
+  const Scratch scratch("section_field");
+  const fs::path& run = scratch.dir;
+  write_fe_box(run, {0, 0, 0}, {0.04, 0.03, 0.02}, {4, 3, 2},
+               [](const Vec3&) { return Vec3::Zero(); });
+  write_pvd(run, true, false);
+  {
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName((run / "frames" / "fe_000000.vtu").c_str());
+    reader->Update();
+    vtkUnstructuredGrid* grid = reader->GetOutput();
+    vtkNew<vtkDoubleArray> strain;
+    strain->SetName("plastic_strain");
+    for (vtkIdType k = 0; k < grid->GetNumberOfCells(); ++k)
+      strain->InsertNextValue(0.1 * double(k % 4 + 1));
+    grid->GetCellData()->AddArray(strain);
+    write_grid(run / "frames" / "fe_000000.vtu", grid);
+  }
+  SectionOptions o;
+  o.run = run;
+  o.point = {0.02, 0.015, 0.01};
+  o.out_dir = run / "strain";
+  const auto r = write_section(o);
+  const auto json = nlohmann::json::parse(slurp(r.json));
+  EXPECT_EQ(json["field"], "plastic_strain");
+  EXPECT_NEAR(json["field_range"][1].get<double>(), 0.4, 1e-12);
+  auto count = [](const sphfem_test::Pixels& png, sphfem::post::Rgb c) {
+    long n = 0;
+    for (int y = 0; y < png.height; ++y)
+      for (int x = 0; x < png.width; ++x) {
+        const auto p = png.at(x, y);
+        n += p.r == c.r && p.g == c.g && p.b == c.b;
+      }
+    return n;
+  };
+  using sphfem::post::LineChart;
+  const auto png = sphfem_test::read_png(r.png);
+  std::vector<long> filled;
+  for (int i = 1; i <= 4; ++i)
+    filled.push_back(count(png, LineChart::viridis(i / 4.0)));
+  std::printf("field pixels per value: %ld %ld %ld %ld\n", filled[0], filled[1], filled[2],
+              filled[3]);
+  for (long n : filled) // each value's two squares (the colour bar adds at most a few rows)
+    EXPECT_GT(n, 0.9 * filled[0]) << "equal areas";
+  EXPECT_GT(filled[0], 1000);
+
+  o.out_dir = run / "none";
+  o.field = "none";
+  const auto plain = write_section(o);
+  EXPECT_TRUE(nlohmann::json::parse(slurp(plain.json))["field"].is_null());
+  EXPECT_EQ(count(sphfem_test::read_png(plain.png), LineChart::viridis(1.0)), 0);
 }
 
 TEST(Section, CommandOnATinyRunWritesTheFiles) {
