@@ -529,8 +529,10 @@ Report write_report(const ReportOptions& o) {
                  format("%.4g", (*section.u_range)[1] * 1e3) + " mm";
     }
     const SectionResult cut = write_section(section);
-    page.figure(cut.png, "Deformed section at t = " + format("%.4g", cut.time * 1e6) + " µs " +
-                             where + ", coloured by the equivalent plastic strain (section.csv).");
+    page.figure(cut.png,
+                "Deformed section at t = " + format("%.4g", cut.time * 1e6) + " µs " + where +
+                    (cut.field.empty() ? "" : ", coloured by the equivalent plastic strain") +
+                    " (section.csv).");
     h << "<p>Largest displacement along the section's w axis (deflection.csv, mm):";
     for (const auto& [body, deflection] : cut.max_deflection)
       h << " " << escape_html(body) << " " << format("%.4g", deflection * 1e3)

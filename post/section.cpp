@@ -544,9 +544,13 @@ SectionResult write_section(const SectionOptions& o) {
   std::error_code failed;
   fs::create_directories(dir, failed);
   SPHFEM_CHECK(!failed, dir.string(), ": cannot create the folder: ", failed.message());
-  SectionResult result{frame.time,           dir / "section.csv",
-                       dir / "section.png",  dir / "deflection.csv",
-                       dir / "section.json", {}};
+  SectionResult result{frame.time,
+                       dir / "section.csv",
+                       dir / "section.png",
+                       dir / "deflection.csv",
+                       dir / "section.json",
+                       {},
+                       {}};
 
   std::ostringstream csv;
   csv << "# section at t = " << number(frame.time) << " s through point " << vec_text(plane.point)
@@ -622,6 +626,7 @@ SectionResult write_section(const SectionOptions& o) {
   if (o.u_range)
     json["u_range_m"] = {(*o.u_range)[0], (*o.u_range)[1]};
   json["field"] = field ? nlohmann::json(o.field) : nlohmann::json(nullptr);
+  result.field = field ? o.field : "";
   if (field)
     json["field_range"] = {field->min, field->max};
   std::ostringstream json_out;

@@ -67,6 +67,7 @@ struct SectionResult {
   double time = 0; // s, of the frame used
   std::filesystem::path csv, png, deflection_csv, json;
   std::map<std::string, double> max_deflection; // body name → m
+  std::string field;                            // the field drawn on the cut; empty: none
 };
 
 // Writes the four files; bad input (no results.pvd, a zero normal or axis, an unknown body, a
