@@ -18,11 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-test::Result shell(const std::string& command, const fs::path& dir) {
-  const int status = std::system(
-      (command + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string()).c_str());
-  return {WEXITSTATUS(status), test::slurp(dir / "out.txt"), test::slurp(dir / "err.txt")};
-}
+using test::run_shell;
 
 const std::string kScripts = std::string(SPHFEM_SOURCE_DIR) + "/scripts/";
 
@@ -41,18 +37,18 @@ void punch_run(const fs::path& dir, double peak) {
 
 TEST(CalibrateScript, BadArgumentsAndHelp) {
   const test::Scratch s("calibrate_args");
-  const auto bad = shell(kScripts + "calibrate.sh --spacings 1mm -o " + s.dir.string(), s.dir);
+  const auto bad = run_shell(kScripts + "calibrate.sh --spacings 1mm -o " + s.dir.string(), s.dir);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("calibrate: expected a comma-separated list of lengths in m, got '1mm'"),
             std::string::npos)
       << bad.err;
-  EXPECT_EQ(shell(kScripts + "calibrate.sh --material /no/such.yaml", s.dir).code, 2);
-  EXPECT_EQ(shell(kScripts + "calibrate.sh -j two", s.dir).code, 2);
-  EXPECT_EQ(shell(kScripts + "calibrate.sh --frobnicate", s.dir).code, 2);
-  const auto help = shell(kScripts + "calibrate.sh --help", s.dir);
+  EXPECT_EQ(run_shell(kScripts + "calibrate.sh --material /no/such.yaml", s.dir).code, 2);
+  EXPECT_EQ(run_shell(kScripts + "calibrate.sh -j two", s.dir).code, 2);
+  EXPECT_EQ(run_shell(kScripts + "calibrate.sh --frobnicate", s.dir).code, 2);
+  const auto help = run_shell(kScripts + "calibrate.sh --help", s.dir);
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("scripts/calibrate.sh [--material FILE]"), std::string::npos) << help.out;
-  const auto empty = shell("python3 " + kScripts + "calibration.py " + s.dir.string(), s.dir);
+  const auto empty = run_shell("python3 " + kScripts + "calibration.py " + s.dir.string(), s.dir);
   EXPECT_NE(empty.code, 0);
   EXPECT_NE(empty.err.find("no hex_<size> run with a history.csv"), std::string::npos) << empty.err;
 }
@@ -65,9 +61,8 @@ TEST(Calibration, MeasuresTheTrapezoidAndFindsTheLength) {
   punch_run(out / "sph_0.001_L0.0008", 250e3); // W = 1000 J
   punch_run(out / "sph_0.001_L0.0016", 350e3); // W = 1400 J: L = 1.2 mm gives 1200 J
   punch_run(out / "sph_0.0015_L0.0012", 280e3);
-  const auto r = shell("SPHFEM=/nonexistent python3 " + kScripts + "calibration.py " +
-                           out.string(),
-                       s.dir);
+  const auto r = run_shell(
+      "SPHFEM=/nonexistent python3 " + kScripts + "calibration.py " + out.string(), s.dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(test::slurp(out / "calibration.json"));
   EXPECT_EQ(j["reference"]["run"], "hex_0.0005");

@@ -19,24 +19,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
-test::Result shell(const std::string& command, const fs::path& dir) {
-  const int status = std::system(
-      (command + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string()).c_str());
-  return {WEXITSTATUS(status), test::slurp(dir / "out.txt"), test::slurp(dir / "err.txt")};
-}
+using test::run_shell;
 
 const std::string kScripts = std::string(SPHFEM_SOURCE_DIR) + "/scripts/";
 
 TEST(ValidateScript, BadArgumentsAndHelp) {
   const test::Scratch s("validate_args");
-  const auto bad = shell(kScripts + "validate.sh --preset huge -o " + s.dir.string(), s.dir);
+  const auto bad = run_shell(kScripts + "validate.sh --preset huge -o " + s.dir.string(), s.dir);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("validate: --preset: expected coarse, standard or fine, got 'huge'"),
             std::string::npos)
       << bad.err;
-  EXPECT_EQ(shell(kScripts + "validate.sh -j two", s.dir).code, 2);
-  EXPECT_EQ(shell(kScripts + "validate.sh --frobnicate", s.dir).code, 2);
-  const auto help = shell(kScripts + "validate.sh --help", s.dir);
+  EXPECT_EQ(run_shell(kScripts + "validate.sh -j two", s.dir).code, 2);
+  EXPECT_EQ(run_shell(kScripts + "validate.sh --frobnicate", s.dir).code, 2);
+  const auto help = run_shell(kScripts + "validate.sh --help", s.dir);
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("scripts/validate.sh [--preset coarse|standard|fine]"), std::string::npos)
       << help.out;
@@ -65,7 +61,7 @@ TEST(ValidationPage, ComparesEachQuantityWithItsReference) {
                 "error_comparison_m_per_s": [4]}]},
              "runs": [{"v0_m_per_s": 303.5, "plug_mass_kg": 0.0056, "run_folder": ")"
                                                     << run.string() << R"("}]})";
-  const auto r = shell("python3 " + kScripts + "validation-page.py " + out.string(), s.dir);
+  const auto r = run_shell("python3 " + kScripts + "validation-page.py " + out.string(), s.dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string csv = test::slurp(out / "validation.csv");
   // The bar rows carried over; the limit 190 against 184.5: +5.5 m/s, +2.98%.

@@ -82,4 +82,11 @@ inline Result run_sphfem(const std::string& args, const std::filesystem::path& d
   return {WEXITSTATUS(status), slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
 }
 
+// Runs a shell command line (a script) with stdout and stderr captured in files of `dir`.
+inline Result run_shell(const std::string& command, const std::filesystem::path& dir) {
+  const int status = std::system(
+      (command + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string()).c_str());
+  return {WEXITSTATUS(status), slurp(dir / "out.txt"), slurp(dir / "err.txt")};
+}
+
 } // namespace sphfem::test
