@@ -190,11 +190,10 @@ bool left_out(const std::vector<char>& mask, vtkIdType i) {
 // FE bodies: outline from the cut boundary faces, profile from the cut hexahedron edges.
 void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& selected,
             const SectionOptions& o, std::map<int, BodySection>& sections) {
-  const std::string& field = o.field;
   vtkUnstructuredGrid* grid = frame.fe;
   const fs::path& file = frame.fe_file;
   vtkDataArray* u = array(grid->GetPointData(), "displacement", file, 3);
-  vtkDataArray* value = field_array(grid->GetCellData(), field, file);
+  vtkDataArray* value = field_array(grid->GetCellData(), o.field, file);
   vtkDataArray* body = array(grid->GetCellData(), "body_id", file, 1);
   vtkDataArray* ghost = grid->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
   const vtkIdType n_points = grid->GetNumberOfPoints();
@@ -301,11 +300,10 @@ void cut_fe(const Frame& frame, const Plane& plane, const std::vector<bool>& sel
 void cut_sph(const Frame& frame, const Plane& plane, const Bodies& bodies,
              const std::vector<bool>& selected, const SectionOptions& o,
              std::map<int, BodySection>& sections) {
-  const std::string& field = o.field;
   vtkUnstructuredGrid* grid = frame.sph;
   const fs::path& file = frame.sph_file;
   vtkPointData* pd = grid->GetPointData();
-  vtkDataArray* value = field_array(pd, field, file);
+  vtkDataArray* value = field_array(pd, o.field, file);
   vtkDataArray* u = array(pd, "displacement", file, 3);
   vtkDataArray* h = array(pd, "h", file, 1);
   vtkDataArray* mass = array(pd, "mass", file, 1);
@@ -414,7 +412,7 @@ std::string plane_name(const Plane& plane) {
 // The field's patches of every body, in mm, beneath the outlines: elements first, then particles
 // farthest from the plane first; its colour scale from 0 (damage: to 1, else to the largest
 // value drawn). Empty if no patch carries the field.
-std::optional<ColourScale> draw_field(LineChart& chart, std::map<int, BodySection>& sections,
+std::optional<ColourScale> draw_field(LineChart& chart, const std::map<int, BodySection>& sections,
                                       const Plane& plane, const SectionOptions& o) {
   std::vector<const Patch*> patches;
   for (const auto& [b, s] : sections)
