@@ -96,7 +96,9 @@ def main():
         history = os.path.join(args.dir, name, "history.csv")
         if not (hex_run or sph_run) or not os.path.isfile(history):
             continue
-        m = measure(*read_history(history))
+        t, force, v = read_history(history)
+        m = measure(t, force, v)
+        m["force"] = force
         m["kind"] = "hex" if hex_run else "sph"
         m["size_m"] = float((hex_run or sph_run).group(1))
         m["length_m"] = float(sph_run.group(2)) if sph_run else None
@@ -123,15 +125,15 @@ def main():
         w = csv.writer(f, lineterminator="\n")
         w.writerow(["run", "travel_mm", "force_kN"])
         for name, m in runs.items():
-            t, force, v = read_history(os.path.join(args.dir, name, "history.csv"))
-            for u, F in zip(m["travel"], force):
+            for u, F in zip(m["travel"], m["force"]):
                 w.writerow([name, f"{u * 1e3:.5g}", f"{F * 1e-3:.5g}"])
 
     spacings = {}
     for name, m in runs.items():
         if m["kind"] == "sph":
             spacings.setdefault(m["size_m"], []).append((m["length_m"], m["work_J"]))
-    result = {"reference": {"run": reference, **{k: v for k, v in ref.items() if k != "travel"}},
+    result = {"reference": {"run": reference,
+                            **{k: v for k, v in ref.items() if k not in ("travel", "force")}},
               "criterion": "the SPH plate's work to push the plug out equals the reference's",
               "spacings": []}
     print(f"calibration: reference {reference}: peak {ref['peak_force_N'] * 1e-3:.1f} kN, "
