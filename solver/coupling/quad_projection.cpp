@@ -58,9 +58,7 @@ QuadPoint nearest_on_quad(const std::array<Vec3, 4>& x, const Vec3& p) {
       break;
   }
   QuadPoint out;
-  if (std::abs(xi) <= 1 + quad_edge_tolerance && std::abs(eta) <= 1 + quad_edge_tolerance) {
-    xi = std::clamp(xi, -1.0, 1.0);
-    eta = std::clamp(eta, -1.0, 1.0);
+  if (std::abs(xi) <= 1 && std::abs(eta) <= 1) {
     out.N = weights(xi, eta);
     out.x = at(x, out.N);
     out.inside = true;

@@ -18,6 +18,10 @@ constexpr double stretch_allowance = 1.25;
 // can close that gap within a step only beyond the speed of sound.
 constexpr double near_fraction = 0.5;
 
+// A node meets a face unless the face's normal lies within 60° of the node's own outward normal:
+// two bodies meeting edge on edge (equal bars) then do not see each other's side faces.
+constexpr double facing_limit = 0.5;
+
 double quad_area(const std::array<Vec3, 4>& x) {
   return 0.5 * (x[2] - x[0]).cross(x[3] - x[1]).norm();
 }
@@ -274,23 +278,35 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     const double size = particle ? p.dp_p[i] : thickness_[i - real_];
     const double area = particle ? p.m_p[i] / (p.rho0_p[i] * size) : area_[i - real_];
     const Vec3 xi = p.x_p[i];
+    // The nearest point of the other body's surface among the candidate faces.
+    const auto lower_bound = [&](const std::array<Vec3, 4>& x) {
+      const Vec3 centre = 0.25 * (x[0] + x[1] + x[2] + x[3]);
+      double reach = 0;
+      for (const Vec3& corner : x)
+        reach = std::max(reach, (corner - centre).norm());
+      return (xi - centre).norm() - reach; // no point of the face lies nearer
+    };
+    const auto corners = [&](Index face) {
+      std::array<Vec3, 4> x;
+      for (int a = 0; a < 4; ++a)
+        x[a] = p.x_p[faces_[face].rows[a]];
+      return x;
+    };
+    // A node does not meet faces turned its own way (their normal within 60° of its own).
+    const auto facing = [&](Index row, const std::array<Vec3, 4>& x) {
+      const Vec3 n = (x[2] - x[0]).cross(x[3] - x[1]);
+      return normal_[row - real_].dot(n) < facing_limit * n.norm();
+    };
     Index best = -1;
     QuadPoint nearest;
     for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c) {
       Candidate& candidate = candidates_[c];
       candidate.force.setZero();
       candidate.stiffness = 0;
-      std::array<Vec3, 4> x;
-      for (int a = 0; a < 4; ++a)
-        x[a] = p.x_p[faces_[candidate.face].rows[a]];
-      // No point of the face lies nearer than the centre's distance less its farthest corner.
-      if (!particle && normal_[i - real_].dot((x[2] - x[0]).cross(x[3] - x[1])) >= 0)
-        continue; // a face that does not face the node
-      const Vec3 centre = 0.25 * (x[0] + x[1] + x[2] + x[3]);
-      double reach = 0;
-      for (const Vec3& corner : x)
-        reach = std::max(reach, (corner - centre).norm());
-      const double bound = (xi - centre).norm() - reach;
+      const std::array<Vec3, 4> x = corners(candidate.face);
+      if (!particle && !facing(i, x))
+        continue;
+      const double bound = lower_bound(x);
       if (bound > R + near_fraction * size || (best >= 0 && bound >= nearest.distance))
         continue;
       const QuadPoint q = nearest_on_quad(x, xi);
@@ -301,18 +317,31 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     }
     if (best < 0)
       return ContactTotals{};
+    // On an edge or a corner: the faces that share the nearest point give the side (their
+    // normals' sum). A node that does not see one of them — it lies at least as near — meets the
+    // body edge on edge: the face it sees holds it by its plane.
+    Vec3 outward = nearest.normal;
+    bool held = false;
+    if (!nearest.inside && nearest.distance > 0) {
+      const double tie = nearest.distance * (1 + 1e-9);
+      outward.setZero();
+      for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c) {
+        const std::array<Vec3, 4> x = corners(candidates_[c].face);
+        if (lower_bound(x) > tie)
+          continue;
+        if (const QuadPoint q = nearest_on_quad(x, xi); q.distance <= tie) {
+          if (particle || facing(i, x))
+            outward += q.normal;
+          else
+            held = true;
+        }
+      }
+    }
+    const SignedGap g = signed_gap(nearest, xi, outward, held);
+    const double signed_distance = g.s;
+    const Vec3 n = g.gradient;
     Candidate& chosen = candidates_[best];
     const Face& face = faces_[chosen.face];
-    // Signed distance: along the normal where the slave projects onto the face. Beyond an edge
-    // a sphere wraps round it (distance from the edge); a node counts as below the face while it
-    // lies within 45° under the edge (deeper below the face's plane than it is beyond the edge:
-    // the corner nodes of two faces pressed edge on edge slide that far apart), else outside.
-    const Vec3 d = xi - nearest.x;
-    const double below = -d.dot(nearest.normal);
-    const bool under_edge = !particle && below > 0 && (d + below * nearest.normal).norm() <= below;
-    const bool along_normal = nearest.inside || under_edge || nearest.distance == 0;
-    const double signed_distance = along_normal ? -below : nearest.distance;
-    const Vec3 n = along_normal ? nearest.normal : Vec3(d / nearest.distance);
     const double gap = signed_distance - R;
     if (gap >= near_fraction * size || signed_distance < -face.depth)
       return ContactTotals{};

@@ -7,14 +7,16 @@
 //   volume Δp³ (R = 0.62 Δp) would start contact 0.12 Δp early on each side.
 // Slave–segment pairs: a particle or a surface node of one body against the faces of the other,
 // both ways between two hexahedral bodies, so that neither passes through the other's nodes.
-// Each slave takes the face whose nearest point is nearest (coupling/quad_projection.hpp) — a
-// node only among the faces that face it (n_face · n_node < 0, n_node the mean outward normal of
-// its own surface faces: else a corner node that has gone a little past the other body's edge
-// finds that body's side face nearer and is pushed along the surface, not out of it) — and
-// overlaps it by δ = R − s, s the signed distance along the face's normal where the slave
-// projects onto it; beyond its edges a sphere wraps round the edge (s = its distance from the
-// edge) and a node counts as below the face within 45° under the edge, else as outside. Slaves
-// deeper than the face's element (s < −V0/A0) have passed through and are left alone.
+// Each slave takes the nearest point of the other body's surface among the faces near it
+// (coupling/quad_projection.hpp) and its signed distance s from that surface: on a face, its
+// height over the face; on an edge or a corner, ± its distance, on the side the normals of the
+// faces sharing the point give (the true signed distance, continuous from face to face and round
+// convex and concave edges, so the contact energy has no jumps). A node only meets faces that
+// face it (their normal not within 60° of n_node, the mean outward normal of its own surface
+// faces): two bodies meeting edge on edge do not see each other's side faces, and a node beyond
+// the other's edge, where such an unseen face lies as near, is held by the plane of the face it
+// sees (s its height over that plane). The overlap is δ = R − s; slaves deeper than the face's
+// element (s < −V0/A0) have passed through and are left alone.
 // Sphere pairs: particles of two particle bodies overlap by δ = R_i + R_j − r_ij.
 // Penalty: p = E_c δ / ℓ with E_c the pair's contact modulus (`penalty`, Pa; by default the
 // softer P-wave modulus), on the slave's area A: F = k δ n, k = E_c A / ℓ. A particle is its

@@ -49,9 +49,9 @@ TEST(QuadProjection, BeyondAnEdgeTheNearestPointIsOnIt) {
   const QuadPoint corner = nearest_on_quad(square, Vec3(-0.5, -0.5, 0.1));
   EXPECT_NEAR((corner.x - square[0]).norm(), 0, 1e-14);
   EXPECT_NEAR(corner.N[0], 1, 1e-14);
-  // Within the edge tolerance a projection still counts as inside, clamped to the edge.
+  // Just beyond an edge: on the edge.
   const QuadPoint near_edge = nearest_on_quad(square, Vec3(1 + 0.02, 0.5, -0.1));
-  EXPECT_TRUE(near_edge.inside);
+  EXPECT_FALSE(near_edge.inside);
   EXPECT_NEAR((near_edge.x - Vec3(1, 0.5, 0)).norm(), 0, 1e-14);
 }
 
@@ -80,8 +80,8 @@ TEST(QuadProjection, WarpedFaceMatchesABruteSearch) {
         best = std::min(best, (p - weighted(x, N)).norm());
       }
     // The search's grid resolves distances to ~(2/400)² · curvature; the projection is never
-    // farther than that (an inside point clamped within the edge tolerance may be a little).
-    EXPECT_LT(q.distance, best + 2e-3) << "point " << k;
+    // farther than that.
+    EXPECT_LT(q.distance, best + 1e-4) << "point " << k;
     EXPECT_GT(q.distance, best - 1e-4) << "point " << k;
     EXPECT_NEAR((weighted(x, q.N) - q.x).norm(), 0, 1e-12);
     double sum = 0;
@@ -89,4 +89,31 @@ TEST(QuadProjection, WarpedFaceMatchesABruteSearch) {
       sum += N;
     EXPECT_NEAR(sum, 1, 1e-14);
   }
+}
+
+// The contact's signed distance from the unit square (normal +z) and its gradient (the finite
+// difference of s): on the face its height; on an edge ± the distance, the side from the
+// normals' sum given (the square with a face going down from its edge x = 1: a convex edge;
+// going up: a concave one); held by the face's plane beyond the edge, its height again.
+TEST(QuadProjection, SignedGapOnTheFaceOnAnEdgeAndHeld) {
+  const Vec3 convex = Vec3(1, 0, 1).normalized(), concave = Vec3(-1, 0, 1).normalized();
+  const auto gap = [&](const Vec3& x, bool held, bool concave_edge = false) {
+    return signed_gap(nearest_on_quad(square, x), x, concave_edge ? concave : convex, held);
+  };
+  EXPECT_NEAR(gap(Vec3(0.9, 0.5, -0.1), false).s, -0.1, 1e-14);           // on the face
+  EXPECT_NEAR(gap(Vec3(1.1, 0.5, 0.1), false).s, std::sqrt(0.02), 1e-14); // round the edge
+  EXPECT_NEAR(gap(Vec3(1.1, 0.5, -0.05), false, true).s, -std::sqrt(0.0125), 1e-14);
+  EXPECT_NEAR(gap(Vec3(1.1, 0.5, -0.2), true).s, -0.2, 1e-14); // held
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const bool held : {false, true})
+    for (const Vec3& x : {Vec3(0.7, 0.4, -0.05), Vec3(1.03, 0.5, -0.08), Vec3(1.2, 0.6, 0.1),
+                          Vec3(1.2, 1.3, 0.2), Vec3(1.2, 0.6, -0.1)}) {
+      const SignedGap g = gap(x, held);
+      const Vec3 direction = Vec3(u(random), u(random), u(random)).normalized();
+      constexpr double h = 1e-6;
+      const double slope =
+          (gap(x + h * direction, held).s - gap(x - h * direction, held).s) / (2 * h);
+      EXPECT_NEAR(slope, g.gradient.dot(direction), 1e-8) << x.transpose() << " held " << held;
+    }
 }
