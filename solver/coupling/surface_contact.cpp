@@ -279,12 +279,12 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     const double area = particle ? p.m_p[i] / (p.rho0_p[i] * size) : area_[i - real_];
     const Vec3 xi = p.x_p[i];
     // The nearest point of the other body's surface among the candidate faces.
-    const auto lower_bound = [&](const std::array<Vec3, 4>& x) {
+    const auto lower_bound = [](const std::array<Vec3, 4>& x, const Vec3& point) {
       const Vec3 centre = 0.25 * (x[0] + x[1] + x[2] + x[3]);
       double reach = 0;
       for (const Vec3& corner : x)
         reach = std::max(reach, (corner - centre).norm());
-      return (xi - centre).norm() - reach; // no point of the face lies nearer
+      return (point - centre).norm() - reach; // no point of the face lies nearer
     };
     const auto corners = [&](Index face) {
       std::array<Vec3, 4> x;
@@ -306,7 +306,7 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
       const std::array<Vec3, 4> x = corners(candidate.face);
       if (!particle && !facing(i, x))
         continue;
-      const double bound = lower_bound(x);
+      const double bound = lower_bound(x, xi);
       if (bound > R + near_fraction * size || (best >= 0 && bound >= nearest.distance))
         continue;
       const QuadPoint q = nearest_on_quad(x, xi);
@@ -317,19 +317,19 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     }
     if (best < 0)
       return ContactTotals{};
-    // On an edge or a corner: the faces that share the nearest point give the side (their
-    // normals' sum). A node that does not see one of them — it lies at least as near — meets the
-    // body edge on edge: the face it sees holds it by its plane.
+    // On an edge or a corner: the faces that share the nearest point give the side (the sum of
+    // their normals there). A node that does not see one of them meets the body edge on edge:
+    // the face it sees holds it by its plane.
     Vec3 outward = nearest.normal;
     bool held = false;
     if (!nearest.inside && nearest.distance > 0) {
-      const double tie = nearest.distance * (1 + 1e-9);
+      const double shared = 1e-9 * size;
       outward.setZero();
       for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c) {
         const std::array<Vec3, 4> x = corners(candidates_[c].face);
-        if (lower_bound(x) > tie)
+        if (lower_bound(x, nearest.x) > shared)
           continue;
-        if (const QuadPoint q = nearest_on_quad(x, xi); q.distance <= tie) {
+        if (const QuadPoint q = nearest_on_quad(x, nearest.x); q.distance <= shared) {
           if (particle || facing(i, x))
             outward += q.normal;
           else

@@ -13,9 +13,9 @@
 // faces sharing the point give (the true signed distance, continuous from face to face and round
 // convex and concave edges, so the contact energy has no jumps). A node only meets faces that
 // face it (their normal not within 60° of n_node, the mean outward normal of its own surface
-// faces): two bodies meeting edge on edge do not see each other's side faces, and a node beyond
-// the other's edge, where such an unseen face lies as near, is held by the plane of the face it
-// sees (s its height over that plane). The overlap is δ = R − s; slaves deeper than the face's
+// faces): two bodies meeting edge on edge do not see each other's side faces, and a node whose
+// nearest point lies on an edge or corner shared with such an unseen face is held by the plane
+// of the face it sees (s its height over that plane). The overlap is δ = R − s; slaves deeper than the face's
 // element (s < −V0/A0) have passed through and are left alone.
 // Sphere pairs: particles of two particle bodies overlap by δ = R_i + R_j − r_ij.
 // Penalty: p = E_c δ / ℓ with E_c the pair's contact modulus (`penalty`, Pa; by default the
