@@ -278,7 +278,6 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     const double size = particle ? p.dp_p[i] : thickness_[i - real_];
     const double area = particle ? p.m_p[i] / (p.rho0_p[i] * size) : area_[i - real_];
     const Vec3 xi = p.x_p[i];
-    // The nearest point of the other body's surface among the candidate faces.
     const auto lower_bound = [](const std::array<Vec3, 4>& x, const Vec3& point) {
       const Vec3 centre = 0.25 * (x[0] + x[1] + x[2] + x[3]);
       double reach = 0;
@@ -297,6 +296,7 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
       const Vec3 n = (x[2] - x[0]).cross(x[3] - x[1]);
       return normal_[row - real_].dot(n) < facing_limit * n.norm();
     };
+    // The nearest point of the other body's surface among the candidate faces.
     Index best = -1;
     QuadPoint nearest;
     for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c) {
@@ -320,11 +320,10 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
     // On an edge or a corner: the faces that share the nearest point give the side (the sum of
     // their normals there). A node that does not see one of them meets the body edge on edge:
     // the face it sees holds it by its plane.
-    Vec3 outward = nearest.normal;
+    Vec3 outward = Vec3::Zero();
     bool held = false;
     if (!nearest.inside && nearest.distance > 0) {
       const double shared = 1e-9 * size;
-      outward.setZero();
       for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c) {
         const std::array<Vec3, 4> x = corners(candidates_[c].face);
         if (lower_bound(x, nearest.x) > shared)
