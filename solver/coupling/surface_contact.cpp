@@ -2,6 +2,7 @@
 
 #include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
+#include "solver/coupling/ignored_overlap.hpp"
 #include "solver/coupling/quad_projection.hpp"
 #include "solver/fem/surface_faces.hpp"
 
@@ -21,6 +22,11 @@ constexpr double near_fraction = 0.5;
 // A node meets a face unless the face's normal lies within 60° of the node's own outward normal:
 // two bodies meeting edge on edge (equal bars) then do not see each other's side faces.
 constexpr double facing_limit = 0.5;
+
+// A change of a slave's signed distance beyond what the bodies' motion explains by this factor
+// (and by this fraction of the slave's size, for round-off) is a change of the surface.
+constexpr double motion_factor = 2.0;
+constexpr double motion_slack = 1e-3;
 
 double quad_area(const std::array<Vec3, 4>& x) {
   return 0.5 * (x[2] - x[0]).cross(x[3] - x[1]).norm();
@@ -161,7 +167,7 @@ void SurfaceContact::build_faces(const Particles& p, const HexElements& elements
   built_for_ = -1;
 }
 
-void SurfaceContact::build_candidates(const Particles& p, const NeighbourList& list) {
+void SurfaceContact::build_candidates(Particles& p, const NeighbourList& list) {
   // Every slave in a corner's list is a candidate of the face: (slave, face) pairs, sorted.
   found_.clear();
   const Index rows = p.rows();
@@ -189,6 +195,12 @@ void SurfaceContact::build_candidates(const Particles& p, const NeighbourList& l
     candidates_[k] = Candidate{row, f, Vec3::Zero(), {}, 0, 0};
   }
   slave_offsets_.push_back(static_cast<Index>(found_.size()));
+  // Rows that are no slaves now forget their distance: if they come back, they come back new.
+  for (Index i = 0; i < rows; ++i)
+    if (slave_of_row_[i] < 0) {
+      p.contact_s_p[i] = std::numeric_limits<double>::quiet_NaN();
+      p.ignored_overlap_p[i] = 0;
+    }
 
   // The face corners' entries, grouped by background row in candidate order (counting sort).
   master_offsets_.assign(static_cast<std::size_t>(p.background) + 1, 0);
@@ -269,7 +281,7 @@ void SurfaceContact::update_normals(const Particles& p) {
       n /= length;
 }
 
-ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
+ContactTotals SurfaceContact::segments(Particles& p, double dt) {
   // Each slave chooses its face and writes only its own candidates (race-free).
   return deterministic_sum(static_cast<Index>(slave_rows_.size()), ContactTotals{}, [&](Index s) {
     const Index i = slave_rows_[s];
@@ -337,12 +349,27 @@ ContactTotals SurfaceContact::segments(const Particles& p, double dt) {
       }
     }
     const SignedGap g = signed_gap(nearest, xi, outward, held);
-    const double signed_distance = g.s;
     const Vec3 n = g.gradient;
     Candidate& chosen = candidates_[best];
     const Face& face = faces_[chosen.face];
-    const double gap = signed_distance - R;
-    if (gap >= near_fraction * size || signed_distance < -face.depth)
+    // The overlap a change of the surface added since the last step is ignored: the slave and
+    // the face's nodes moved s by at most Δt (|v_s| + max |v_a|), by Δt ∇s · v_rel to first order.
+    const Vec3 v_slave = particle ? p.u_p[i] : p.v_p[i]; // what moved it in the last drift
+    Vec3 v_rel = v_slave;
+    double face_speed = 0;
+    for (int a = 0; a < 4; ++a) {
+      v_rel -= nearest.N[a] * p.v_p[face.rows[a]];
+      face_speed = std::max(face_speed, p.v_p[face.rows[a]].norm());
+    }
+    const double slave_speed = std::max(v_slave.norm(), p.v_p[i].norm());
+    const double moved = motion_factor * dt * (slave_speed + face_speed) + motion_slack * size;
+    const double previous = dt > 0 ? p.contact_s_p[i] : g.s; // at the start: no change yet
+    const double ignored = ignored_overlap(previous, previous + dt * n.dot(v_rel), g.s, moved,
+                                           R - g.s, p.ignored_overlap_p[i]);
+    p.contact_s_p[i] = g.s;
+    p.ignored_overlap_p[i] = ignored;
+    const double gap = g.s - R + ignored;
+    if (gap >= near_fraction * size || g.s < -face.depth)
       return ContactTotals{};
     const Pair& pair = pairs_[pair_index(p.body_p[i], face.body)];
     const double k = pair.modulus * area / size;

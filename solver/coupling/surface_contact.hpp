@@ -16,7 +16,10 @@
 // faces): two bodies meeting edge on edge do not see each other's side faces, and a node whose
 // nearest point lies on an edge or corner shared with such an unseen face is held by the plane
 // of the face it sees (s its height over that plane). The overlap is δ = R − s; slaves deeper than
-// the face's element (s < −V0/A0) have passed through and are left alone. Sphere pairs: particles
+// the face's element (s < −V0/A0) have passed through and are left alone. Where the surface
+// itself changes under a slave (erosion, a face turning into view, a pinched corner), s jumps:
+// the overlap such a jump adds is ignored (coupling/ignored_overlap.hpp), so contact creates no
+// energy from it. Sphere pairs: particles
 // of two particle bodies overlap by δ = R_i + R_j − r_ij. Penalty: p = E_c δ / ℓ with E_c the
 // pair's contact modulus (`penalty`, Pa; by default the softer P-wave modulus), on the slave's area
 // A: F = k δ n, k = E_c A / ℓ. A particle is its cell, ℓ = Δp and A = V/Δp (V = m/ρ0: a lattice's
@@ -112,10 +115,10 @@ private:
   // node on the live surface of such a body.
   bool slave(const Particles& p, Index i) const;
   void build_faces(const Particles& p, const HexElements& elements);
-  void build_candidates(const Particles& p, const NeighbourList& list);
+  void build_candidates(Particles& p, const NeighbourList& list);
   ContactTotals spheres(Particles& p, const NeighbourList& list, double dt) const;
   void update_normals(const Particles& p);
-  ContactTotals segments(const Particles& p, double dt);
+  ContactTotals segments(Particles& p, double dt);
   ContactTotals gather(Particles& p) const;
   Index eroded_count(const HexElements& elements) const;
 

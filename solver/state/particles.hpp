@@ -47,6 +47,11 @@ struct Particles {
   std::vector<Index> id_p;            // index in model.h5 (particles are reordered by cell)
   std::vector<MaterialPoint> point_p; // plastic strain, damage, temperature (inelastic materials)
   std::vector<Kill> kill_p;           // particle kill state
+  // Surface contact (coupling/surface_contact.hpp), per slave: its signed distance from the
+  // other body's surface at the last evaluation (NaN: none yet), and the overlap it ignores
+  // after that surface changed under it (coupling/ignored_overlap.hpp), m.
+  std::vector<double> contact_s_p;
+  std::vector<double> ignored_overlap_p;
   // Rates and scratch of the current step.
   std::vector<Vec3> f_p;      // force on the particle, N
   std::vector<Mat3> L_p;      // velocity gradient, 1/s
@@ -94,6 +99,8 @@ struct Particles {
     visit("id_p", id_p);
     visit("point_p", point_p);
     visit("kill_p", kill_p);
+    visit("contact_s_p", contact_s_p);
+    visit("ignored_overlap_p", ignored_overlap_p);
     visit("f_p", f_p);
     visit("L_p", L_p);
     visit("C_p", C_p);
