@@ -9,7 +9,7 @@
 // the overlap (LS-DYNA's "ignore initial penetration", applied at every change of the surface).
 // Every motion further in is resisted from there on. A slave new to the surface (exposed by
 // erosion) has its initial overlap ignored the same way. Verified by
-// tests/coupling/surface_contact_test.cpp.
+// tests/coupling/ignored_overlap_test.cpp (the rule) and surface_contact_test.cpp (in a run).
 #pragma once
 
 #include <algorithm>

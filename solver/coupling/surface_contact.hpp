@@ -19,19 +19,20 @@
 // the face's element (s < −V0/A0) have passed through and are left alone. Where the surface
 // itself changes under a slave (erosion, a face turning into view, a pinched corner), s jumps:
 // the overlap such a jump adds is ignored (coupling/ignored_overlap.hpp), so contact creates no
-// energy from it. Sphere pairs: particles
-// of two particle bodies overlap by δ = R_i + R_j − r_ij. Penalty: p = E_c δ / ℓ with E_c the
-// pair's contact modulus (`penalty`, Pa; by default the softer P-wave modulus), on the slave's area
-// A: F = k δ n, k = E_c A / ℓ. A particle is its cell, ℓ = Δp and A = V/Δp (V = m/ρ0: a lattice's
-// surface particles, of half or a quarter of the volume, carry half or a quarter of the area); a
-// node has its tributary area A on its surface faces and ℓ the thickness V0/A0 of the elements
-// under them. So k/m ≈ E_c/(ρ ℓ²) for every entity — a light corner particle or node is no stiffer
-// for its mass than a whole one — and a pressure p presses the surfaces δ = p ℓ / E_c into each
-// other (2.9% of ℓ for steel bars meeting at 2 × 200 m/s). Two particles: k = E_c V_ij / Δp_ij²,
-// V_ij = 2 V_i V_j / (V_i + V_j), Δp_ij their mean spacing. The face's nodes get −N_a F. The energy
-// ½ k δ² is the contact energy of the balance (the forces are its exact gradient, including the
-// segment's motion); both forces of a pair are equal and opposite, so momentum is conserved to
-// round-off. Friction (`friction: μ`): F_t = −min(μ |F|, ½ m_eff |v_t| / Δt) t̂ against the slave's
+// energy from it.
+// Sphere pairs: particles of two particle bodies overlap by δ = R_i + R_j − r_ij.
+// Penalty: p = E_c δ / ℓ with E_c the pair's contact modulus (`penalty`, Pa; by default the
+// softer P-wave modulus), on the slave's area A: F = k δ n, k = E_c A / ℓ. A particle is its
+// cell, ℓ = Δp and A = V/Δp (V = m/ρ0: a lattice's surface particles, of half or a quarter of the
+// volume, carry half or a quarter of the area); a node has its tributary area A on its surface
+// faces and ℓ the thickness V0/A0 of the elements under them. So k/m ≈ E_c/(ρ ℓ²) for every
+// entity — a light corner particle or node is no stiffer for its mass than a whole one — and a
+// pressure p presses the surfaces δ = p ℓ / E_c into each other (2.9% of ℓ for steel bars meeting
+// at 2 × 200 m/s). Two particles: k = E_c V_ij / Δp_ij², V_ij = 2 V_i V_j / (V_i + V_j), Δp_ij
+// their mean spacing. The face's nodes get −N_a F. The energy ½ k δ² is the contact energy of
+// the balance (the forces are its exact gradient, including the segment's motion); both forces
+// of a pair are equal and opposite, so momentum is conserved to round-off.
+// Friction (`friction: μ`): F_t = −min(μ |F|, ½ m_eff |v_t| / Δt) t̂ against the slave's
 // tangential velocity v_t relative to the face (the second bound stops a sticking pair within
 // a step without overshoot); its power −F_t · v_t ≥ 0 is dissipated energy in the balance.
 // Stable step: each pair within ℓ/2 of contact is a spring k between the slave's mass and the
