@@ -140,6 +140,7 @@ struct TimeSpec {
   double cfl = 0.9;            // fraction of the critical step
   double output_interval = 0;  // s between frames
   double history_interval = 0; // s between history rows; 0 = every step
+  double energy_limit = 0.5;   // balance error (fraction) that stops the run as unstable
 };
 
 // Recorded at the body's node (FE) or particle (SPH) nearest to `point`.

@@ -497,7 +497,7 @@ TimeFunction CaseReader::time_function(const Located& at) const {
 }
 
 TimeSpec CaseReader::time(const Located& at) const {
-  check_map(at, {"end", "cfl", "output_interval", "history_interval"});
+  check_map(at, {"end", "cfl", "output_interval", "history_interval", "energy_limit"});
   TimeSpec spec;
   spec.end = number(required(at, "end", "end time, s"), "> 0 s", positive);
   spec.cfl = number_or(at, "cfl", spec.cfl, "in (0, 1]", [](double v) { return v > 0 && v <= 1; });
@@ -505,6 +505,7 @@ TimeSpec CaseReader::time(const Located& at) const {
       number(required(at, "output_interval", "time between output frames, s"), "> 0 s", positive);
   spec.history_interval =
       number_or(at, "history_interval", spec.history_interval, ">= 0 s", non_negative);
+  spec.energy_limit = number_or(at, "energy_limit", spec.energy_limit, "> 0", positive);
   return spec;
 }
 

@@ -9,8 +9,8 @@
 namespace sphfem {
 
 bool output_only_key(const std::string& path) {
-  constexpr std::array<std::string_view, 4> keys{"name", "time.end", "time.output_interval",
-                                                 "time.history_interval"};
+  constexpr std::array<std::string_view, 5> keys{"name", "time.end", "time.output_interval",
+                                                 "time.history_interval", "time.energy_limit"};
   for (std::string_view k : keys)
     if (path == k)
       return true;
@@ -47,9 +47,10 @@ void check_restart_case(const std::filesystem::path& file, const CheckpointMeta&
     keys += (k ? "; " : "") + differ[k];
   if (differ.size() > 8)
     keys += "; and " + std::to_string(differ.size() - 8) + " more";
-  throw Error(detail::concat("checkpoint ", file, ": the case's physics differs from the ",
-                             "checkpoint's (only time.end, time.output_interval, ",
-                             "time.history_interval and output.* may change): ", keys));
+  throw Error(
+      detail::concat("checkpoint ", file, ": the case's physics differs from the ",
+                     "checkpoint's (only time.end, time.output_interval, ",
+                     "time.history_interval, time.energy_limit and output.* may change): ", keys));
 }
 
 } // namespace sphfem

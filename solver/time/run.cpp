@@ -7,6 +7,7 @@
 #include "solver/io/history_writer.hpp"
 #include "solver/io/run_log.hpp"
 #include "solver/time/cost_estimate.hpp"
+#include "solver/time/energy_guard.hpp"
 #include "solver/time/probes.hpp"
 #include "solver/time/progress.hpp"
 #include "solver/time/restart_check.hpp"
@@ -203,6 +204,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   }
 
   const StopSignals signals;
+  EnergyGuard guard(c.time.energy_limit, 0.05 * c.time.end);
   Progress progress(c.time.end, log);
   const auto start = std::chrono::steady_clock::now();
   auto last_checkpoint = start;
@@ -220,6 +222,13 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
                    " s (step ", sim.steps(), "): the run is unstable; last good frame kept");
       history_row(sim, dt, probes, in_contact, e, row);
       history.append(row);
+      try {
+        guard.check(sim, e);
+      } catch (const Error&) {
+        progress.finish();
+        history.flush(); // the rows up to the blow-up: they show it growing
+        throw;
+      }
       while (next_history <= sim.time() + eps)
         next_history += c.time.history_interval > 0 ? c.time.history_interval : dt;
     }

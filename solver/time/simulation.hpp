@@ -82,6 +82,7 @@ public:
   const ParticleSystem& particle_system() const { return particles_; }
   const Contact& contact() const { return contact_; }
   const std::vector<std::string>& body_names() const { return body_names_; }
+  double initial_energy() const { return initial_energy_; } // J, E0 of the balance
 
   Energies energies() const;
   // |E_kin + E_int + E_hg + E_contact + E_eroded + E_friction − W_ext − E_0| /

@@ -206,6 +206,7 @@ const BadInput bad_inputs[] = {
     {"youngs", "youngs_modulus: 207.0e9", "youngs_modulus: 0", "materials.steel.youngs_modulus"},
     {"poisson", "poisson_ratio: 0.3", "poisson_ratio: 0.5", "materials.steel.poisson_ratio"},
     {"negative_time", "end: 1.4e-5", "end: -1.4e-5", "time.end"},
+    {"energy_limit", "  end: 1.4e-5", "  end: 1.4e-5\n  energy_limit: 0", "time.energy_limit"},
     {"empty_geometry", "max: [0.005, 0.005, 0.1]", "max: [0.005, 0.0, 0.1]", "bodies.bar.geometry"},
 };
 

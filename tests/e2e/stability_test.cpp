@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -174,4 +175,42 @@ TEST(Stability, SurfaceContactHundredTimesStifferStaysStable) {
   EXPECT_GT(stiff.summary["steps"].get<double>(), 1000);
   EXPECT_LT(balance_error(stiff), 0.01);
   EXPECT_LT(stiff.summary["momentum_drift"].get<double>(), 1e-10);
+}
+
+// The energy guard (docs/stability.md, "Guards"): the same step factor at its limit creates
+// energy all through the run (13% by its end). With time.energy_limit 0.12 the run must stop at
+// the first history row whose balance error — recomputed here from the history's energies —
+// passes 12%, exit non-zero with one line naming the key, the energy created and where to look,
+// and keep the history to that row and the frames written before it.
+TEST(Stability, EnergyGuardStopsARunWhoseBalanceRunsAway) {
+  const fs::path out = fs::temp_directory_path() / "sphfem_stability_guard";
+  fs::remove_all(out);
+  const fs::path err = fs::temp_directory_path() / "sphfem_stability_guard.err";
+  const std::string cmd = std::string(SPHFEM_BINARY) + " run " + sph_bar + " -o " + out.string() +
+                          " -q --set sph.cfl=1.0 --set time.energy_limit=0.12 > /dev/null 2>" +
+                          err.string();
+  const int status = std::system(cmd.c_str());
+  EXPECT_NE(WEXITSTATUS(status), 0);
+  std::ifstream in(err);
+  const std::string message((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+  for (const char* part : {"passes time.energy_limit (12%)", "J created", "fastest: particle"})
+    EXPECT_NE(message.find(part), std::string::npos) << part << " in: " << message;
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  EXPECT_TRUE(fs::exists(out / "frames"));
+
+  const sphfem::post::History h = sphfem::post::read_history_csv(out / "history.csv");
+  const auto& t = h["time"];
+  ASSERT_GT(t.size(), 2u);
+  const auto error = [&](std::size_t i) {
+    const double kinetic = h["energy.kinetic"][i], internal = h["energy.internal"][i];
+    const double work = h["energy.external_work"][i], e0 = h["energy.total"][0];
+    return std::abs(h["energy.total"][i] - work - e0) /
+           std::max({kinetic + internal, std::abs(work), e0});
+  };
+  const std::size_t last = t.size() - 1;
+  EXPECT_GT(error(last), 0.12);
+  EXPECT_LT(error(last - 1), 0.12);
+  EXPECT_GT(t[last], 0.05 * 1.4e-5); // after the quiet first 5%
+  EXPECT_LT(t[last], 1.4e-5 - 1e-7); // stopped before the end
 }

@@ -1,0 +1,86 @@
+#include "solver/time/energy_guard.hpp"
+
+#include "solver/core/error.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+namespace sphfem {
+
+namespace {
+
+std::string number(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+// "eroded energy -6.02e+03 J since t = 5.81e-04 s": the term that changed most.
+std::string largest_change(const Energies& now, const std::optional<Energies>& before,
+                           double before_time) {
+  if (!before)
+    return "no earlier check to compare with";
+  const std::array<std::pair<const char*, double>, 7> change{{
+      {"kinetic energy", now.kinetic - before->kinetic},
+      {"internal energy", now.internal - before->internal},
+      {"hourglass energy", now.hourglass - before->hourglass},
+      {"contact energy", now.contact - before->contact},
+      {"eroded energy", now.eroded - before->eroded},
+      {"friction energy", now.friction - before->friction},
+      {"external work", now.external_work - before->external_work},
+  }};
+  auto largest = change[0];
+  for (const auto& c : change)
+    if (std::abs(c.second) > std::abs(largest.second))
+      largest = c;
+  return detail::concat(largest.first, " ", number("%+.3g", largest.second),
+                        " J since t = ", number("%.4e", before_time), " s");
+}
+
+// "node 1234 of plate at (x, y, z) m, |v| = 1.6e+04 m/s": the fastest node or live particle.
+std::string fastest_entity(const Simulation& sim) {
+  const Nodes& n = sim.nodes();
+  const Particles& p = sim.particle_system().particles();
+  double fastest = -1;
+  Vec3 at = Vec3::Zero();
+  std::string what;
+  for (Index i = 0; i < n.size(); ++i)
+    if (const double v = n.v_n[i].norm(); v > fastest) {
+      fastest = v, at = n.x_n[i];
+      what = detail::concat("node ", i, " of ", sim.body_names()[n.body_n[i]]);
+    }
+  for (Index i = 0; i < p.size(); ++i)
+    if (const double v = p.v_p[i].norm(); p.kill_p[i] == Kill::None && v > fastest) {
+      fastest = v, at = p.x_p[i];
+      what = detail::concat("particle ", p.id_p[i], " of ", sim.body_names()[p.body_p[i]]);
+    }
+  if (fastest < 0)
+    return "no node or live particle";
+  return detail::concat("fastest: ", what, " at (", number("%.4g", at.x()), ", ",
+                        number("%.4g", at.y()), ", ", number("%.4g", at.z()),
+                        ") m, |v| = ", number("%.3g", fastest), " m/s");
+}
+
+} // namespace
+
+void EnergyGuard::check(const Simulation& sim, const Energies& e) {
+  const double error = sim.balance_error(e);
+  if (sim.time() >= quiet_until_ && error > limit_) {
+    const double excess = e.total() - e.external_work - sim.initial_energy();
+    throw Error(detail::concat(
+        "energy balance error ", number("%.3g", 100 * error),
+        "% at t = ", number("%.6e", sim.time()), " s (step ", sim.steps(),
+        ") passes time.energy_limit (", number("%.3g", 100 * limit_), "%): the run is unstable, ",
+        number("%.3g", std::abs(excess)), " J ", excess > 0 ? "created" : "lost", " (",
+        largest_change(e, previous_, previous_time_), "; ", fastest_entity(sim),
+        "); the frames, the history to here and any checkpoint kept (docs/stability.md, ",
+        "\"Guards\")"));
+  }
+  previous_ = e;
+  previous_time_ = sim.time();
+}
+
+} // namespace sphfem
