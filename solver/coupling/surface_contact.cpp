@@ -261,6 +261,8 @@ ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, d
     }
     p.f_p[i] += f;
     p.fc_p[i] += f;
+    if (f != Vec3::Zero())
+      p.xsph_p[i].setZero(); // drifts with v while pressed: the spring's energy then balances
     sums.omega2 = stiffness;
     return sums;
   });
@@ -421,6 +423,8 @@ ContactTotals SurfaceContact::gather(Particles& p) const {
       }
     p.f_p[i] += f;
     p.fc_p[i] += f;
+    if (i < real_ && f != Vec3::Zero())
+      p.xsph_p[i].setZero(); // a pressed particle drifts with v, as in spheres()
     ContactTotals sums;
     sums.omega2 = omega2;
     return sums;

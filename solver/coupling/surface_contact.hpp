@@ -31,7 +31,10 @@
 // at 2 × 200 m/s). Two particles: k = E_c V_ij / Δp_ij², V_ij = 2 V_i V_j / (V_i + V_j), Δp_ij
 // their mean spacing. The face's nodes get −N_a F. The energy ½ k δ² is the contact energy of
 // the balance (the forces are its exact gradient, including the segment's motion); both forces
-// of a pair are equal and opposite, so momentum is conserved to round-off.
+// of a pair are equal and opposite, so momentum is conserved to round-off. The forces do work on
+// the velocities v; a particle drifts with v + its XSPH correction (METHOD.md §2), so a pressed
+// particle would move the spring by a motion its force does no work on: a particle the contact
+// pushes drifts with v alone in the next step (its XSPH correction zeroed).
 // Friction (`friction: μ`): F_t = −min(μ |F|, ½ m_eff |v_t| / Δt) t̂ against the slave's
 // tangential velocity v_t relative to the face (the second bound stops a sticking pair within
 // a step without overshoot); its power −F_t · v_t ≥ 0 is dissipated energy in the balance.
