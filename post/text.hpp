@@ -1,8 +1,9 @@
-// Small text helpers shared by the post tool's pages and tables: a file's whole content, one
-// number in printf form, and HTML escaping.
+// Small text helpers shared by the post tool's pages and tables: a file's whole content and HTML
+// escaping (one number in printf form: sphfem::format, solver/core/format.hpp).
 #pragma once
 
-#include <cstdio>
+#include "solver/core/format.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -15,13 +16,6 @@ inline std::string slurp(const std::filesystem::path& file) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// `value` in the printf `pattern` ("%.4g").
-inline std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
 }
 
 // `text` with <, >, & and " escaped for HTML.

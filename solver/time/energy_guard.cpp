@@ -1,22 +1,16 @@
 #include "solver/time/energy_guard.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/core/format.hpp"
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <utility>
 
 namespace sphfem {
 
 namespace {
-
-std::string number(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
 
 // "eroded energy -6.02e+03 J since t = 5.81e-04 s": the term that changed most.
 std::string largest_change(const Energies& now, const std::optional<Energies>& before,
@@ -36,8 +30,8 @@ std::string largest_change(const Energies& now, const std::optional<Energies>& b
   for (const auto& c : change)
     if (std::abs(c.second) > std::abs(largest.second))
       largest = c;
-  return detail::concat(largest.first, " ", number("%+.3g", largest.second),
-                        " J since t = ", number("%.4e", before_time), " s");
+  return detail::concat(largest.first, " ", format("%+.3g", largest.second),
+                        " J since t = ", format("%.4e", before_time), " s");
 }
 
 // "node 1234 of plate at (x, y, z) m, |v| = 1.6e+04 m/s": the fastest node or live particle.
@@ -59,9 +53,9 @@ std::string fastest_entity(const Simulation& sim) {
     }
   if (fastest < 0)
     return "no node or live particle";
-  return detail::concat("fastest: ", what, " at (", number("%.4g", at.x()), ", ",
-                        number("%.4g", at.y()), ", ", number("%.4g", at.z()),
-                        ") m, |v| = ", number("%.3g", fastest), " m/s");
+  return detail::concat("fastest: ", what, " at (", format("%.4g", at.x()), ", ",
+                        format("%.4g", at.y()), ", ", format("%.4g", at.z()),
+                        ") m, |v| = ", format("%.3g", fastest), " m/s");
 }
 
 } // namespace
@@ -71,10 +65,10 @@ void EnergyGuard::check(const Simulation& sim, const Energies& e) {
   if (sim.time() >= quiet_until_ && error > limit_) {
     const double excess = e.total() - e.external_work - sim.initial_energy();
     throw Error(detail::concat(
-        "energy balance error ", number("%.3g", 100 * error),
-        "% at t = ", number("%.6e", sim.time()), " s (step ", sim.steps(),
-        ") passes time.energy_limit (", number("%.3g", 100 * limit_), "%): the run is unstable, ",
-        number("%.3g", std::abs(excess)), " J ", excess > 0 ? "created" : "lost", " (",
+        "energy balance error ", format("%.3g", 100 * error),
+        "% at t = ", format("%.6e", sim.time()), " s (step ", sim.steps(),
+        ") passes time.energy_limit (", format("%.3g", 100 * limit_), "%): the run is unstable, ",
+        format("%.3g", std::abs(excess)), " J ", excess > 0 ? "created" : "lost", " (",
         largest_change(e, previous_, previous_time_), "; ", fastest_entity(sim),
         "); the frames, the history to here and any checkpoint kept (docs/stability.md, ",
         "\"Guards\")"));

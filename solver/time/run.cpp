@@ -1,6 +1,7 @@
 #include "solver/time/run.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/core/format.hpp"
 #include "solver/io/atomic_file.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/frame_writer.hpp"
@@ -19,7 +20,6 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <cstdio>
 #include <optional>
 
 #ifdef _OPENMP
@@ -83,12 +83,6 @@ void history_row(const Simulation& sim, double dt, const std::vector<Probe>& pro
   }
   row.insert(row.end(), {e.kinetic, e.internal, e.hourglass, e.contact, e.eroded, e.friction,
                          e.external_work, e.total()});
-}
-
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
 }
 
 // Energy balance error above which a finished run is flagged (summary.json `warnings`, log).
