@@ -1,6 +1,6 @@
 // Node → (element, local node) adjacency in compressed rows, and the race-free gather of the
 // elements' nodal forces into per-node sums: each node sums its own entries in a fixed order,
-// so results are identical for any thread count. Verified by tests/fem/hex_update_test.cpp.
+// so results are identical for any thread count. Verified by tests/fem/hex8_test.cpp.
 #pragma once
 
 #include "solver/core/types.hpp"
