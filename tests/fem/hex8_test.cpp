@@ -393,9 +393,9 @@ namespace {
 // A crushed, twisted element of the struck face of elastic steel bars meeting at 6000 m/s
 // (docs/stability.md, surface_3000): a 1 cm cube at 48 µs, half its volume, coordinates in mm.
 HexPoints crushed_element() {
-  const HexPoints mm{Vec3(1.654, 11.401, -4.885), Vec3(0.589, 0.714, -3.836),
-                     Vec3(-2.912, -3.664, -4.868), Vec3(-11.743, 9.857, -16.214),
-                     Vec3(10.206, 10.613, -5.909), Vec3(11.916, 2.424, -4.732),
+  const HexPoints mm{Vec3(1.654, 11.401, -4.885),   Vec3(0.589, 0.714, -3.836),
+                     Vec3(-2.912, -3.664, -4.868),  Vec3(-11.743, 9.857, -16.214),
+                     Vec3(10.206, 10.613, -5.909),  Vec3(11.916, 2.424, -4.732),
                      Vec3(10.652, -9.437, -13.972), Vec3(12.453, 12.508, 1.572)};
   HexPoints x;
   for (int I = 0; I < 8; ++I)
