@@ -6,13 +6,16 @@
 # takes the reference's work to push the plug out.
 #
 #   scripts/calibrate.sh [--material FILE] [--spacings S,…] [--lengths L,…] [--reference-sizes E,…]
-#                        [-o DIR] [-j THREADS]
+#                        [--reference RUN] [-o DIR] [-j THREADS]
 #
 # --material: the plate's material file (default cases/materials/weldox460e.yaml); --spacings:
 # the SPH lattice spacings, m (default 0.0015,0.001,0.00075); --lengths: the L tried at each,
 # m (default 0.0008,0.0012,0.0016); --reference-sizes: the hexahedra's sizes, m, finest last
-# (default 0.001,0.00075,0.0005; each must divide 21 mm and 12 mm, as must the spacings). Runs
-# left by an earlier call in DIR are kept (delete a folder to rerun it). Writes DIR/<run>/,
+# (default 0.001,0.00075,0.0005; each must divide 21 mm and 12 mm, as must the spacings; `none`:
+# no hexahedral run); --reference: the run the others are matched to (default the finest
+# hex_<size>; an sph_<spacing>_L<length> run transfers its L to the other spacings: the L at
+# each that takes its work). Runs left by an earlier call in DIR are kept (delete a folder to
+# rerun it). Writes DIR/<run>/,
 # DIR/calibration.csv (one row per run: its peak force, travel at separation and work),
 # DIR/calibration.json (L per spacing, interpolated, and the reference) and DIR/calibration.png
 # (force against travel). Cost on 2 cores with the defaults: about 1.5 h. Needs
@@ -20,11 +23,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-usage() { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; }
 material=$PWD/cases/materials/weldox460e.yaml
 spacings=0.0015,0.001,0.00075
 lengths=0.0008,0.0012,0.0016
 sizes=0.001,0.00075,0.0005
+reference=
 out=out/calibration
 threads=0
 while [ $# -gt 0 ]; do
@@ -33,6 +37,7 @@ while [ $# -gt 0 ]; do
   --spacings) spacings=${2:?--spacings needs a list}; shift 2 ;;
   --lengths) lengths=${2:?--lengths needs a list}; shift 2 ;;
   --reference-sizes) sizes=${2:?--reference-sizes needs a list}; shift 2 ;;
+  --reference) reference=${2:?--reference needs a run folder name}; shift 2 ;;
   -o) out=${2:?-o needs a folder}; shift 2 ;;
   -j) threads=${2:?-j needs a number of threads}; shift 2 ;;
   -h | --help) usage; exit 0 ;;
@@ -40,11 +45,14 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -f "$material" ] || { echo "calibrate: --material: no such file '$material'" >&2; exit 2; }
-for list in "$spacings" "$lengths" "$sizes"; do
+[ "$sizes" = none ] && sizes=
+for list in "$spacings" "$lengths" ${sizes:+"$sizes"}; do
   case $list in '' | *[!0-9.,e-]*)
     echo "calibrate: expected a comma-separated list of lengths in m, got '$list'" >&2; exit 2 ;;
   esac
 done
+[ -n "$reference" ] || [ -n "$sizes" ] || {
+  echo "calibrate: --reference-sizes none needs --reference RUN" >&2; exit 2; }
 case $threads in '' | *[!0-9]*)
   echo "calibrate: -j: expected a whole number of threads, got '$threads'" >&2; exit 2 ;;
 esac
@@ -74,4 +82,4 @@ for s in ${spacings//,/ }; do
       --set "materials.weldox460e.damage.regularisation_length=$l"
   done
 done
-python3 scripts/calibration.py "$out" --reference "hex_${sizes##*,}"
+python3 scripts/calibration.py "$out" --reference "${reference:-hex_${sizes##*,}}"

@@ -9,9 +9,10 @@ whole punch takes 4 ×) and its centre-of-mass velocity body.punch.vz, whose int
 travel. Per run: the peak force, the travel at it, the travel at separation (the first after the
 peak where the force, averaged over 5 µs, falls below 10% of the peak) and the work to push the
 plug out, W = ∫ F du over the whole run (the run goes on past separation). The reference is RUN
-(default: the hex_ run of the smallest size). At each spacing, W is fitted by a straight line in
-L over the lengths run, and L is where the line gives the reference's W (marked extrapolated
-outside the lengths run). Writes DIR/calibration.csv, DIR/calibration.json, DIR/curves.csv
+(default: the hex_ run of the smallest size); an sph_ run as the reference transfers its L to the
+other spacings (the L at each that takes the same work). At each spacing, W is fitted by a
+straight line in L over the lengths run, and L is where the line gives the reference's W (marked
+extrapolated outside the lengths run). Writes DIR/calibration.csv, DIR/calibration.json, DIR/curves.csv
 (run, travel_mm, force_kN) and, if sphfem is at hand, DIR/calibration.png. Standard library only.
 """
 import argparse
@@ -85,7 +86,8 @@ def fit_length(points, target):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("dir")
-    parser.add_argument("--reference", help="the reference run's folder name (default: finest hex_)")
+    parser.add_argument("--reference",
+                        help="the reference run's folder name, hex_… or sph_… (default: finest hex_)")
     args = parser.parse_args()
     if not os.path.isdir(args.dir):
         fail(f"{args.dir}: no such folder")
@@ -104,11 +106,12 @@ def main():
         m["length_m"] = float(sph_run.group(2)) if sph_run else None
         runs[name] = m
     hexes = sorted((m["size_m"], name) for name, m in runs.items() if m["kind"] == "hex")
-    if not hexes:
-        fail(f"{args.dir}: no hex_<size> run with a history.csv (the reference)")
+    if not hexes and not args.reference:
+        fail(f"{args.dir}: no hex_<size> run with a history.csv (the reference; or name one "
+             "with --reference)")
     reference = args.reference or hexes[0][1]
-    if reference not in runs or runs[reference]["kind"] != "hex":
-        fail(f"--reference {reference}: no such hex_ run in {args.dir}")
+    if reference not in runs:
+        fail(f"--reference {reference}: no such run with a history.csv in {args.dir}")
     ref = runs[reference]
 
     with open(os.path.join(args.dir, "calibration.csv"), "w", newline="") as f:

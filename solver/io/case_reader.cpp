@@ -574,7 +574,7 @@ RateForm CaseReader::rate_form(const Located& at) const {
 
 DuctileDamage CaseReader::damage(const Located& at, RateForm strength_form) const {
   check_map(at, {"D1", "D2", "D3", "D4", "D5", "rate_form", "critical_damage", "threshold_strain",
-                 "regularisation_length"});
+                 "regularisation_length", "regularisation_exponent"});
   DuctileDamage d;
   d.D1 = number(required(at, "D1", "fracture strain constant"));
   d.D2 = number(required(at, "D2", "fracture strain constant"));
@@ -589,6 +589,11 @@ DuctileDamage CaseReader::damage(const Located& at, RateForm strength_form) cons
   d.threshold_strain = number_or(at, "threshold_strain", d.threshold_strain, ">= 0", non_negative);
   d.regularisation_length =
       number_or(at, "regularisation_length", d.regularisation_length, "> 0 (m)", positive);
+  d.regularisation_exponent = number_or(at, "regularisation_exponent", d.regularisation_exponent,
+                                        "in (0, 2]", [](double v) { return v > 0 && v <= 2; });
+  if (const Located beta = child(at, "regularisation_exponent");
+      beta.node.IsDefined() && !(d.regularisation_length > 0))
+    fail(beta, "scales the regularisation length's factor: give regularisation_length too");
   return d;
 }
 

@@ -5,11 +5,15 @@
 // Regularisation (an option beyond METHOD.md): strain localises into a band as wide as the
 // discretisation resolves — 2h for an SPH particle, one element for a hexahedron — so the work
 // to cut a unit of band area, ∝ p_f × width, grows with the particle spacing. With a length L,
-// p_f is multiplied by L / width: the work is that of a band L wide at every resolution
-// (p_d is not scaled). Without L (0), and for a point without a size, p_f is as calibrated.
+// p_f is multiplied by (L / width)^β: with β = 1 (the default) the work is that of a band L wide
+// at every resolution; a band that narrows more slowly than the discretisation's width (the
+// punch test of docs/calibration.md measures how fast) wants β < 1 (p_d is not scaled).
+// Without L (0), and for a point without a size, p_f is as calibrated.
 #pragma once
 
 #include "solver/material/rate_form.hpp"
+
+#include <cmath>
 
 namespace sphfem {
 
@@ -19,6 +23,7 @@ struct DuctileDamage {
   double critical_damage = 1.0;         // D_C
   double threshold_strain = 0.0;        // p_d
   double regularisation_length = 0.0;   // L, m; 0: p_f is not scaled
+  double regularisation_exponent = 1.0; // β
 
   // Fracture strain p_f at triaxiality σ*, dimensionless plastic strain rate ṗ* and
   // homologous temperature T*.
@@ -27,10 +32,13 @@ struct DuctileDamage {
            (1.0 + D5 * homologous_T);
   }
 
-  // The factor L / width on p_f for a point whose band is `width` (m) wide; 1 without L or
-  // without a width.
+  // The factor (L / width)^β on p_f for a point whose band is `width` (m) wide; 1 without L
+  // or without a width.
   double size_factor(double width) const {
-    return regularisation_length > 0 && width > 0 ? regularisation_length / width : 1.0;
+    if (!(regularisation_length > 0 && width > 0))
+      return 1.0;
+    const double ratio = regularisation_length / width;
+    return regularisation_exponent == 1.0 ? ratio : std::pow(ratio, regularisation_exponent);
   }
 };
 

@@ -123,6 +123,33 @@ TEST(Regularisation, ScalesTheDamageIncrementByWidthOverLength) {
         << "width " << width;
 }
 
+// With an exponent β the factor is (L / width)^β: the step is (width / L)^β times the
+// calibrated one, and at width = L the exponent does nothing.
+TEST(Regularisation, AnExponentScalesTheFactorAsAPower) {
+  const double L = 1.2e-3, beta = 0.6;
+  const auto specs =
+      weldox_specs({"materials.weldox460e.damage.regularisation_length=" + std::to_string(L),
+                    "materials.weldox460e.damage.regularisation_exponent=" + std::to_string(beta)});
+  const Material calibrated = Material::from(entry(weldox_specs(), "weldox460e"));
+  const Material with_beta = Material::from(entry(specs, "weldox460e"));
+  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
+  const auto damage_step = [&](const Material& m, double width) {
+    MaterialPoint point = worn_point();
+    Mat3 S = Mat3::Zero();
+    double pressure = -300e6;
+    update_point(m, D, Mat3::Zero(), 1e-4, 7800.0, pressure, S, point, width);
+    return point.damage - 0.1;
+  };
+  const double calibrated_step = damage_step(calibrated, 0.0);
+  ASSERT_GT(calibrated_step, 0.0);
+  EXPECT_NEAR(damage_step(with_beta, L), calibrated_step, 1e-12);
+  for (const double width : {0.75e-3, 1.8e-3, 2.4e-3, 3.6e-3}) {
+    const double scale = std::pow(width / L, beta);
+    EXPECT_NEAR(damage_step(with_beta, width), calibrated_step * scale, 1e-12 * scale)
+        << "width " << width;
+  }
+}
+
 // Sheared at a constant rate with no pressure (σ* = 0), a point fails once p reaches
 // p_f = (D1 + D2) (1 + ṗ*)^D4, times L / width with the regularisation: half the strain, so
 // half the work per unit volume, in a band twice as wide.

@@ -148,6 +148,15 @@ TEST(MaterialReader, RejectsBadValues) {
       reports(error_of(edited(kFull, "critical_damage: 0.3",
                               "critical_damage: 0.3, regularisation_length: -1e-3")),
               "lib.yaml:17: materials.plate.damage.regularisation_length: ", "must be > 0 (m)"));
+  EXPECT_TRUE(
+      reports(error_of(edited(kFull, "critical_damage: 0.3",
+                              "critical_damage: 0.3, regularisation_length: 1e-3, "
+                              "regularisation_exponent: 0")),
+              "lib.yaml:17: materials.plate.damage.regularisation_exponent: ", "in (0, 2]"));
+  EXPECT_TRUE(reports(error_of(edited(kFull, "critical_damage: 0.3",
+                                      "critical_damage: 0.3, regularisation_exponent: 0.5")),
+                      "lib.yaml:17: materials.plate.damage.regularisation_exponent: ",
+                      "give regularisation_length too"));
   EXPECT_TRUE(reports(error_of(edited(kFull, "model: mie_gruneisen", "model: ideal_gas")),
                       "lib.yaml:19: materials.plate.eos.model: ", "mie_gruneisen"));
   EXPECT_TRUE(reports(error_of(edited(kFull, "erosion: true", "erosion: 1.5")),
