@@ -30,6 +30,17 @@ MaterialPoint worn_point() {
   return point;
 }
 
+// The damage a worn point gains in one step of a deviatoric stretch under tension, as a point of
+// band `width` (m; 0: no size).
+double damage_step(const Material& m, double width) {
+  MaterialPoint point = worn_point();
+  Mat3 S = Mat3::Zero();
+  double pressure = -300e6;
+  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
+  update_point(m, D, Mat3::Zero(), 1e-4, 7800.0, pressure, S, point, width);
+  return point.damage - 0.1;
+}
+
 class ReturnMapping : public testing::TestWithParam<std::string> {};
 
 // A deviatoric stretch far past yield (W = 0, so the trial deviator is S0 + 2G D′ Δt): the
@@ -106,14 +117,6 @@ TEST(Regularisation, ScalesTheDamageIncrementByWidthOverLength) {
       weldox_specs({"materials.weldox460e.damage.regularisation_length=" + std::to_string(L)});
   const Material calibrated = Material::from(entry(plain, "weldox460e"));
   const Material with_L = Material::from(entry(regularised, "weldox460e"));
-  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
-  const auto damage_step = [&](const Material& m, double width) {
-    MaterialPoint point = worn_point();
-    Mat3 S = Mat3::Zero();
-    double pressure = -300e6;
-    update_point(m, D, Mat3::Zero(), 1e-4, 7800.0, pressure, S, point, width);
-    return point.damage - 0.1;
-  };
   const double calibrated_step = damage_step(calibrated, 0.0);
   ASSERT_GT(calibrated_step, 0.0);
   EXPECT_NEAR(damage_step(calibrated, 2.4e-3), calibrated_step, 1e-15);
@@ -132,14 +135,6 @@ TEST(Regularisation, AnExponentScalesTheFactorAsAPower) {
                     "materials.weldox460e.damage.regularisation_exponent=" + std::to_string(beta)});
   const Material calibrated = Material::from(entry(weldox_specs(), "weldox460e"));
   const Material with_beta = Material::from(entry(specs, "weldox460e"));
-  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
-  const auto damage_step = [&](const Material& m, double width) {
-    MaterialPoint point = worn_point();
-    Mat3 S = Mat3::Zero();
-    double pressure = -300e6;
-    update_point(m, D, Mat3::Zero(), 1e-4, 7800.0, pressure, S, point, width);
-    return point.damage - 0.1;
-  };
   const double calibrated_step = damage_step(calibrated, 0.0);
   ASSERT_GT(calibrated_step, 0.0);
   EXPECT_NEAR(damage_step(with_beta, L), calibrated_step, 1e-12);
