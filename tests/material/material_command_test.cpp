@@ -124,23 +124,24 @@ TEST(MaterialCommand, FailsAtTheFractureStrain) {
   }
 }
 
-// --band-width on the Børvik case's regularised Weldox (L = 1.2 mm): the point fails at
-// p_f × L / w for w = 2.4 mm (2 h0 of a particle at the standard preset), within 2%; on the library
-// entry, which has no L, the option is an error naming the key, and nothing is written.
+// --band-width on the Børvik case's regularised Weldox (L = 0.655 mm, β = 0.534): the point fails
+// at p_f × (L / w)^β for w = 3.6 mm (2 h0 of a particle at the coarse preset), within 2%; on the
+// library entry, which has no L, the option is an error naming the key, and nothing is written.
 TEST(MaterialCommand, BandWidthScalesARegularisedFractureStrain) {
   const fs::path dir = scratch("band");
   const std::string borvik = std::string(SPHFEM_SOURCE_DIR) + "/cases/borvik_12mm/case.yaml";
   auto r = run_sphfem("material " + borvik +
                           " --material weldox460e --path uniaxial-stress --strain-rate 1e-3"
-                          " --to 2.0 --no-heating --band-width 0.0024 -o " +
+                          " --to 2.0 --no-heating --band-width 0.0036 -o " +
                           (dir / "out.csv").string(),
                       dir);
   ASSERT_EQ(r.code, 0) << r.err;
   auto csv = read_csv(dir / "out.csv");
   ASSERT_LT(first_failed(csv), csv["failed"].size()) << "never failed";
-  const double p_f = (D1 + D2 * std::exp(D3 / 3)) * std::pow(1 + 1e-3 / rate0, D4) * 1.2 / 2.4;
+  const double p_f = (D1 + D2 * std::exp(D3 / 3)) * std::pow(1 + 1e-3 / rate0, D4) *
+                     std::pow(0.65536713386 / 3.6, 0.534);
   EXPECT_NEAR(csv["plastic_strain"][first_failed(csv)], p_f, 0.02 * p_f);
-  EXPECT_NE(slurp(dir / "out.csv").find("--band-width 0.0024"), std::string::npos);
+  EXPECT_NE(slurp(dir / "out.csv").find("--band-width 0.0036"), std::string::npos);
 
   r = run_sphfem(tensile + " --band-width 0.0024 -o " + (dir / "library.csv").string(), dir);
   EXPECT_NE(r.code, 0);
