@@ -1,9 +1,43 @@
 #include "solver/coupling/background_particles.hpp"
 
+#include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
 #include "solver/fem/nodal_stress.hpp"
 
 namespace sphfem {
+
+void BackgroundParticles::initialise(const Case& c, const Model& model,
+                                     const std::vector<Material>& materials, Particles& p) const {
+  const std::vector<int> group = c.body_groups();
+  for (Index k = 0; k < size(); ++k) {
+    const Index b = p.real + k, node = nodes_[k];
+    const int body = model.body_n[node];
+    SPHFEM_CHECK(body >= 0 && body < static_cast<int>(c.bodies.size()), "model.h5: particle ", b,
+                 " has body id ", body);
+    p.x0_p[b] = p.x_p[b] = model.x_n[node];
+    p.v_p[b] = c.bodies[body].velocity;
+    p.m_p[b] = 0.0;
+    p.rho0_p[b] = p.rho_p[b] = materials[body].elastic.density;
+    p.h0_p[b] = p.h_p[b] = model.h_background[k];
+    p.dp_p[b] = model.spacing_background[k];
+    p.S_p[b].setZero();
+    p.p_p[b] = p.e_p[b] = p.de_p[b] = 0;
+    p.body_p[b] = body;
+    p.group_p[b] = group[body];
+    p.material_p[b] = body; // one material entry per body
+    p.point_p[b] = MaterialPoint::initial(materials[body]);
+    p.kill_p[b] = Kill::None;
+    p.id_p[b] = -1;
+    p.R_p[b].setZero();
+    p.shear_p[b] = 1;       // the FE side of a pair: the real particle's factor decides
+    p.C_p[b].setIdentity(); // background particles are never corrected
+    p.A_p[b].setZero();
+    p.u_p[b].setZero();
+    p.f_p[b].setZero();
+    p.fc_p[b].setZero();
+    p.fm_p[b].setZero();
+  }
+}
 
 void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
                                const NodeGather& around, Particles& p) const {
@@ -36,6 +70,11 @@ void BackgroundParticles::return_forces(const Particles& p, std::vector<Vec3>& f
 #pragma omp parallel for schedule(static) if (count > parallel_min_items)
   for (Index k = 0; k < count; ++k)
     f_nodes[nodes_[k]] += p.f_p[p.real + k];
+}
+
+double BackgroundParticles::energy(const Particles& p) const {
+  return deterministic_sum(
+      p.background, 0.0, [&](Index k) { return p.e_p[p.size() + k] - 0.5 * p.de_p[p.size() + k]; });
 }
 
 } // namespace sphfem

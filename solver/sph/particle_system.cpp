@@ -22,32 +22,29 @@ template <class T> void permute(std::vector<T>& field, const std::vector<Index>&
 } // namespace
 
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
-                               const std::vector<Material>& materials, const FeState* fe)
-    : spec_(c.sph), materials_(materials), background_(model.background_nodes), mirror_(c),
+                               const std::vector<Material>& materials, Index attached,
+                               const AttachRows& attach)
+    : spec_(c.sph), materials_(materials), mirror_(c),
       dt_stable_(std::numeric_limits<double>::infinity()) {
-  const Index n = model.particle_count(), total = n + background_.size();
+  const Index n = model.particle_count(), total = n + attached;
   if (total == 0)
     return;
-  SPHFEM_CHECK(background_.empty() || fe != nullptr,
-               "background particles need the FE state (internal error)");
+  SPHFEM_CHECK(attached == 0 || attach, "attached rows need their filler (internal error)");
   const std::vector<int> group = c.body_groups();
   auto& p = particles_;
   p.real = n;
-  p.background = background_.size();
+  p.background = attached;
   p.for_each_field([total](const char*, auto& field) { field.resize(total); });
-  double largest_h = 0;
-  for (Index i = 0; i < total; ++i) {
-    const bool real = i < n;
-    const Index node = real ? -1 : background_.node(i - n);
-    const int body = real ? model.body_p[i] : model.body_n[node];
+  for (Index i = 0; i < n; ++i) {
+    const int body = model.body_p[i];
     SPHFEM_CHECK(body >= 0 && body < static_cast<int>(c.bodies.size()), "model.h5: particle ", i,
                  " has body id ", body);
-    p.x0_p[i] = p.x_p[i] = real ? model.x_p[i] : model.x_n[node];
+    p.x0_p[i] = p.x_p[i] = model.x_p[i];
     p.v_p[i] = c.bodies[body].velocity;
-    p.m_p[i] = real ? model.m_p[i] : 0.0;
-    p.rho0_p[i] = p.rho_p[i] = real ? model.rho_p[i] : materials[body].elastic.density;
-    p.h0_p[i] = p.h_p[i] = real ? model.h_p[i] : model.h_background[i - n];
-    p.dp_p[i] = real ? model.spacing_b[body] : model.spacing_background[i - n];
+    p.m_p[i] = model.m_p[i];
+    p.rho0_p[i] = p.rho_p[i] = model.rho_p[i];
+    p.h0_p[i] = p.h_p[i] = model.h_p[i];
+    p.dp_p[i] = model.spacing_b[body];
     p.S_p[i].setZero();
     p.p_p[i] = p.e_p[i] = p.de_p[i] = 0;
     p.body_p[i] = body;
@@ -55,21 +52,24 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     p.material_p[i] = body; // one material entry per body
     p.point_p[i] = MaterialPoint::initial(materials[body]);
     p.kill_p[i] = Kill::None;
-    p.inelastic = p.inelastic || (real && materials[body].inelastic());
-    p.id_p[i] = real ? i : -1;
+    p.inelastic = p.inelastic || materials[body].inelastic();
+    p.id_p[i] = i;
     p.R_p[i].setZero();
-    p.shear_p[i] = 1;       // the FE side of a pair: the real particle's factor decides
-    p.C_p[i].setIdentity(); // background particles are never corrected
+    p.shear_p[i] = 1;
+    p.C_p[i].setIdentity();
     p.A_p[i].setZero();
     p.u_p[i].setZero();
     p.f_p[i].setZero();
     p.fc_p[i].setZero();
     p.fm_p[i].setZero();
-    largest_h = std::max(largest_h, p.h_p[i]);
   }
+  if (attached > 0)
+    attach(p);
+  double largest_h = 0;
+  for (Index i = 0; i < total; ++i)
+    largest_h = std::max(largest_h, p.h_p[i]);
   skin_ = spec_.skin * 2.0 * largest_h;
   index_of_id_.resize(n);
-  fill_background(fe);
   rebuild();
   sph_kinematics(p, search_.list(), spec_, 0.0);
   mirror_.refresh_stress(p, p.rows());
@@ -133,27 +133,12 @@ void ParticleSystem::forces(double dt) {
   dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
 }
 
-void ParticleSystem::fill_background(const FeState* fe) {
-  if (!background_.empty())
-    background_.fill(fe->nodes, fe->elements, fe->around, particles_);
-}
-
-void ParticleSystem::return_background_forces(std::vector<Vec3>& f_nodes) const {
-  background_.return_forces(particles_, f_nodes);
-}
-
 Vec3 ParticleSystem::mirror_force() const {
   if (mirror_.empty())
     return Vec3::Zero();
   const auto& p = particles_;
   return deterministic_sum(p.rows(), Vec3(Vec3::Zero()),
                            [&](Index i) -> Vec3 { return p.fm_p[i]; });
-}
-
-double ParticleSystem::background_energy() const {
-  const auto& p = particles_;
-  return deterministic_sum(
-      p.background, 0.0, [&](Index k) { return p.e_p[p.size() + k] - 0.5 * p.de_p[p.size() + k]; });
 }
 
 void ParticleSystem::kick(double dt_v) {
@@ -177,10 +162,9 @@ void ParticleSystem::drift(double dt) {
   }
 }
 
-void ParticleSystem::update(double dt, const FeState* fe) {
+void ParticleSystem::update(double dt) {
   if (empty())
     return;
-  fill_background(fe);
   mirror_.refresh_motion(particles_, particles_.rows());
   if (search_.needs_update(particles_.x_p, particles_.h_p))
     rebuild();

@@ -87,16 +87,19 @@ Simulation::Simulation(const Case& c, const Model& model)
   constraints_ = Constraints(c, model);
   loads_ = PressureLoads(c, model);
   constraints_.apply_initial(nodes_.v_n);
-  const FeState fe{nodes_, elements_, gather_};
-  particles_ = ParticleSystem(c, model, materials_, &fe);
+  background_ = BackgroundParticles(model.background_nodes);
+  particles_ = ParticleSystem(c, model, materials_, background_.size(), [&](Particles& p) {
+    background_.initialise(c, model, materials_, p);
+    background_.fill(nodes_, elements_, gather_, p);
+  });
   particle_boundaries_ = ParticleBoundaries(c, model);
   ties_ = InterfaceTies(c, model);
-  contact_ = Contact(c, model, particles_.particles(), particles_.background(), elements_);
+  contact_ = Contact(c, model, particles_.particles(), background_, elements_);
   contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
                  0.0);
 
   dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
-  particles_.return_background_forces(nodes_.f_int_n);
+  background_.return_forces(particles_.particles(), nodes_.f_int_n);
   initial_energy_ = energies().total(); // kinetic, and contact energy if bodies start close
   initial_momentum_ = momentum();
   const auto& p = particles_.particles();
@@ -170,11 +173,11 @@ void Simulation::step(double dt) {
 
   dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
   gather_.gather_forces(elements_, f);
-  const FeState fe{nodes_, elements_, gather_};
-  particles_.update(dt, &fe);
+  background_.fill(nodes_, elements_, gather_, particles_.particles());
+  particles_.update(dt);
   contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
                  dt);
-  particles_.return_background_forces(f);
+  background_.return_forces(particles_.particles(), f);
   time_ += dt;
   dt_previous_ = dt;
   ++steps_;
@@ -218,7 +221,7 @@ Energies Simulation::energies() const {
   out.internal =
       deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : internal(k); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; }) +
-      particles_.background_energy();
+      background_.energy(particles_.particles());
   out.hourglass =
       deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : e.e_hg_e[k]; });
   out.eroded = deterministic_sum(

@@ -7,6 +7,7 @@
 // tests/fem/conservation_test.cpp.
 #pragma once
 
+#include "solver/coupling/background_particles.hpp"
 #include "solver/coupling/contact.hpp"
 #include "solver/coupling/interface_ties.hpp"
 #include "solver/fem/node_gather.hpp"
@@ -106,6 +107,7 @@ private:
   std::vector<std::string> body_names_;
   Nodes nodes_;
   HexElements elements_;
+  BackgroundParticles background_; // the FE nodes in the particle arrays (METHOD.md §4.1)
   ParticleSystem particles_;
   NodeGather gather_;
   Constraints constraints_;
