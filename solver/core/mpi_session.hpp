@@ -18,12 +18,9 @@ public:
 
   int rank() const { return rank_; }
   int size() const { return size_; }
-  bool started() const { return started_; }
 
   // Whether a launcher's environment says this process is one of a parallel job's ranks.
   static bool launched();
-  // Whether this build can run with MPI at all.
-  static bool available();
 
 private:
   int rank_ = 0;

@@ -14,28 +14,10 @@ void BackgroundParticles::initialise(const Case& c, const Model& model,
     const int body = model.body_n[node];
     SPHFEM_CHECK(body >= 0 && body < static_cast<int>(c.bodies.size()), "model.h5: particle ", b,
                  " has body id ", body);
-    p.x0_p[b] = p.x_p[b] = model.x_n[node];
-    p.v_p[b] = c.bodies[body].velocity;
-    p.m_p[b] = 0.0;
-    p.rho0_p[b] = p.rho_p[b] = materials[body].elastic.density;
-    p.h0_p[b] = p.h_p[b] = model.h_background[k];
-    p.dp_p[b] = model.spacing_background[k];
-    p.S_p[b].setZero();
-    p.p_p[b] = p.e_p[b] = p.de_p[b] = 0;
-    p.body_p[b] = body;
-    p.group_p[b] = group[body];
-    p.material_p[b] = body; // one material entry per body
-    p.point_p[b] = MaterialPoint::initial(materials[body]);
-    p.kill_p[b] = Kill::None;
-    p.id_p[b] = -1;
-    p.R_p[b].setZero();
-    p.shear_p[b] = 1;       // the FE side of a pair: the real particle's factor decides
-    p.C_p[b].setIdentity(); // background particles are never corrected
-    p.A_p[b].setZero();
-    p.u_p[b].setZero();
-    p.f_p[b].setZero();
-    p.fc_p[b].setZero();
-    p.fm_p[b].setZero();
+    const double density = materials[body].elastic.density; // mass and density: fill()
+    p.start_row(b, {model.x_n[node], c.bodies[body].velocity, 0.0, density, model.h_background[k],
+                    model.spacing_background[k], body, group[body], -1,
+                    MaterialPoint::initial(materials[body])});
   }
 }
 

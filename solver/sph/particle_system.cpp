@@ -39,29 +39,10 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     const int body = model.body_p[i];
     SPHFEM_CHECK(body >= 0 && body < static_cast<int>(c.bodies.size()), "model.h5: particle ", i,
                  " has body id ", body);
-    p.x0_p[i] = p.x_p[i] = model.x_p[i];
-    p.v_p[i] = c.bodies[body].velocity;
-    p.m_p[i] = model.m_p[i];
-    p.rho0_p[i] = p.rho_p[i] = model.rho_p[i];
-    p.h0_p[i] = p.h_p[i] = model.h_p[i];
-    p.dp_p[i] = model.spacing_b[body];
-    p.S_p[i].setZero();
-    p.p_p[i] = p.e_p[i] = p.de_p[i] = 0;
-    p.body_p[i] = body;
-    p.group_p[i] = group[body];
-    p.material_p[i] = body; // one material entry per body
-    p.point_p[i] = MaterialPoint::initial(materials[body]);
-    p.kill_p[i] = Kill::None;
+    p.start_row(i, {model.x_p[i], c.bodies[body].velocity, model.m_p[i], model.rho_p[i],
+                    model.h_p[i], model.spacing_b[body], body, group[body], i,
+                    MaterialPoint::initial(materials[body])});
     p.inelastic = p.inelastic || materials[body].inelastic();
-    p.id_p[i] = i;
-    p.R_p[i].setZero();
-    p.shear_p[i] = 1;
-    p.C_p[i].setIdentity();
-    p.A_p[i].setZero();
-    p.u_p[i].setZero();
-    p.f_p[i].setZero();
-    p.fc_p[i].setZero();
-    p.fm_p[i].setZero();
   }
   if (attached > 0)
     attach(p);

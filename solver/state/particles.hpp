@@ -71,6 +71,39 @@ struct Particles {
   std::vector<Vec3> fc_p;        // contact force on the particle (part of f_p), N
   std::vector<Vec3> fm_p;        // force from mirror images: the symmetry planes' reaction, N
 
+  // What a row starts a run with besides the fresh state start_row() gives every row.
+  struct RowStart {
+    Vec3 x, v;            // position (also the reference position), velocity
+    double m, rho, h, dp; // mass, density (also the reference), smoothing length, spacing
+    int body, group;      // the body (also the material entry: one per body) and its group
+    Index id;             // index in model.h5, −1 for a row that stands for something else
+    MaterialPoint point;  // the material's initial point
+  };
+  // Row i at the start of a run: as `s` says, unstressed, uncorrected, no force on it.
+  void start_row(Index i, const RowStart& s) {
+    x0_p[i] = x_p[i] = s.x;
+    v_p[i] = s.v;
+    m_p[i] = s.m;
+    rho0_p[i] = rho_p[i] = s.rho;
+    h0_p[i] = h_p[i] = s.h;
+    dp_p[i] = s.dp;
+    S_p[i].setZero();
+    p_p[i] = e_p[i] = de_p[i] = 0;
+    body_p[i] = material_p[i] = s.body;
+    group_p[i] = s.group;
+    point_p[i] = s.point;
+    kill_p[i] = Kill::None;
+    id_p[i] = s.id;
+    R_p[i].setZero();
+    shear_p[i] = 1;       // a background row's pairs: the real particle's factor decides
+    C_p[i].setIdentity(); // corrected later for real particles; background rows never are
+    A_p[i].setZero();
+    u_p[i].setZero();
+    f_p[i].setZero();
+    fc_p[i].setZero();
+    fm_p[i].setZero();
+  }
+
   Index size() const { return real; }
   Index rows() const { return real + background; }
   // A real particle or the mirror image of one: what background particles pair with.

@@ -7,7 +7,6 @@
 #include "tests/support/command.hpp"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <string>
@@ -50,13 +49,7 @@ void expect_same_files(const fs::path& a, const fs::path& b) {
     ++frames;
   }
   EXPECT_EQ(frames, 6); // 0, 10, 20 µs, FE and particles
-  auto summary = [](const fs::path& run) {
-    auto s = nlohmann::json::parse(slurp(run / "summary.json"));
-    for (const char* varies : {"wall_s", "entity_steps_per_s", "threads"})
-      s.erase(varies);
-    return s;
-  };
-  EXPECT_EQ(summary(a), summary(b));
+  EXPECT_EQ(sphfem::test::summary_without_timing(a), sphfem::test::summary_without_timing(b));
 }
 
 } // namespace

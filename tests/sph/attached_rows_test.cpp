@@ -19,25 +19,9 @@ const double dp = 1e-3, h_factor = 1.2;
 
 // Row b as a steel particle of spacing dp at rest at x, unstressed, in body 0.
 void fill_row(Particles& p, Index b, const Vec3& x, const Material& steel) {
-  p.x0_p[b] = p.x_p[b] = x;
-  p.v_p[b] = p.u_p[b] = Vec3::Zero();
-  p.rho0_p[b] = p.rho_p[b] = steel.elastic.density;
-  p.m_p[b] = steel.elastic.density * dp * dp * dp;
-  p.h0_p[b] = p.h_p[b] = h_factor * dp;
-  p.dp_p[b] = dp;
-  p.S_p[b].setZero();
-  p.p_p[b] = p.e_p[b] = p.de_p[b] = 0;
-  p.body_p[b] = p.group_p[b] = p.material_p[b] = 0;
-  p.point_p[b] = MaterialPoint::initial(steel);
-  p.kill_p[b] = Kill::None;
-  p.id_p[b] = -1;
-  p.R_p[b].setZero();
-  p.shear_p[b] = 1;
-  p.C_p[b].setIdentity();
-  p.A_p[b].setZero();
-  p.f_p[b].setZero();
-  p.fc_p[b].setZero();
-  p.fm_p[b].setZero();
+  const double rho = steel.elastic.density;
+  p.start_row(b, {x, Vec3::Zero(), rho * dp * dp * dp, rho, h_factor * dp, dp, 0, 0, -1,
+                  MaterialPoint::initial(steel)});
 }
 
 // A 6 × 6 × 4 block moving down at `speed` onto a 6 × 6 × 2 layer of attached rows at rest

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -72,6 +73,15 @@ inline bool wait_for_file(const std::filesystem::path& file, pid_t pid) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return false;
+}
+
+// A run's summary.json without what varies from run to run of the same case (wall time, rate,
+// thread count): what two runs that must agree are compared on.
+inline nlohmann::json summary_without_timing(const std::filesystem::path& run) {
+  auto s = nlohmann::json::parse(slurp(run / "summary.json"));
+  for (const char* varies : {"wall_s", "entity_steps_per_s", "threads"})
+    s.erase(varies);
+  return s;
 }
 
 // Runs `sphfem ARGS` with stdout and stderr captured in files of `dir`.
