@@ -1,6 +1,7 @@
 #include "app/commands.hpp"
 
 #include "app/material_command.hpp"
+#include "app/partition_command.hpp"
 #include "app/post_commands.hpp"
 #include "app/sweep_command.hpp"
 #include "mesher/mesher.hpp"
@@ -16,6 +17,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <tuple>
@@ -118,6 +120,17 @@ Model current_model(const Case& c, const fs::path& out, bool quiet) {
   return mesh_and_write(c, out, quiet);
 }
 
+// The neighbour-list skin a run of this model would use (sph/particle_system.cpp): sph.skin ×
+// twice the largest smoothing length of the particles and background particles.
+double run_skin(const Case& c, const Model& model) {
+  double largest_h = 0;
+  for (const double h : model.h_p)
+    largest_h = std::max(largest_h, h);
+  for (const double h : model.h_background)
+    largest_h = std::max(largest_h, h);
+  return c.sph.skin * 2.0 * largest_h;
+}
+
 void print_outputs(const fs::path& out, const nlohmann::json& summary) {
   std::cout << "results:  " << (out / "results.pvd").string() << "  (open in ParaView)\n"
             << "summary:  " << (out / "summary.json").string() << "\n"
@@ -161,6 +174,9 @@ int run_command_line(int argc, char** argv) {
   SweepCommandOptions sweep_o;
   auto* sweep_cmd = add_sweep_command(app, sweep_o);
 
+  PartitionCommandOptions partition_o;
+  auto* partition_cmd = add_partition_command(app, partition_o);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -179,6 +195,12 @@ int run_command_line(int argc, char** argv) {
     }
     if (sweep_cmd->parsed()) {
       run_sweep_command(sweep_o);
+      return 0;
+    }
+    if (partition_cmd->parsed()) {
+      const Case c = read_case(partition_o.case_file, partition_o.overrides);
+      const Model model = current_model(c, partition_o.out_dir, partition_o.quiet);
+      run_partition_command(partition_o, model, run_skin(c, model));
       return 0;
     }
     if (post_commands.parsed()) {

@@ -9,6 +9,8 @@ packages=(
   gmsh libgmsh-dev       # gmsh 4.8 C++ API: the mesher
   libeigen3-dev          # Eigen 3.4
   libopenmpi-dev openmpi-bin  # Open MPI 4.1: mpirun (-DSPHFEM_MPI, on when found)
+  libtrilinos-zoltan-dev libptscotch-dev  # Zoltan (Trilinos 13.2): the decomposition's RCB;
+                         # its CMake target links (PT-)Scotch's .so files
   libhdf5-dev hdf5-tools # HDF5 1.10 C++ API: model.h5, history.h5
   libgtest-dev libgmock-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev

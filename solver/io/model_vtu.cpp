@@ -10,6 +10,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
@@ -150,13 +151,29 @@ void write_grid(vtkUnstructuredGrid* grid, const fs::path& file) {
   }
 }
 
-} // namespace
-
-void write_model_vtu(const Model& m, const fs::path& file) {
-  write_grid(make_grid(m), file);
+void add_fields(vtkUnstructuredGrid* grid, const VtuIntFields& extra, const fs::path& file) {
+  const auto add = [&](const auto& fields, vtkIdType count, vtkDataSetAttributes* to,
+                       const char* what) {
+    for (const auto& [name, values] : fields) {
+      if (static_cast<vtkIdType>(values.size()) != count)
+        throw Error(detail::concat("cannot write model file ", file, ": array '", name, "' has ",
+                                   values.size(), " values for ", count, " ", what));
+      to->AddArray(int_array(name, values));
+    }
+  };
+  add(extra.cells, grid->GetNumberOfCells(), grid->GetCellData(), "cells");
+  add(extra.points, grid->GetNumberOfPoints(), grid->GetPointData(), "points");
 }
 
-void write_particles_vtu(const Model& m, const fs::path& file) {
+} // namespace
+
+void write_model_vtu(const Model& m, const fs::path& file, const VtuIntFields& extra) {
+  auto grid = make_grid(m);
+  add_fields(grid, extra, file);
+  write_grid(grid, file);
+}
+
+void write_particles_vtu(const Model& m, const fs::path& file, const VtuIntFields& extra) {
   if (m.particle_count() == 0) {
     std::error_code status;
     if (fs::remove(file, status); status)
@@ -174,7 +191,9 @@ void write_particles_vtu(const Model& m, const fs::path& file) {
       if (i < 0 || static_cast<std::size_t>(i) >= p)
         throw Error(detail::concat("cannot write model file ", file, ": particle face '", name,
                                    "' holds index ", i, " outside [0, ", p, ")"));
-  write_grid(make_particle_grid(m), file);
+  auto grid = make_particle_grid(m);
+  add_fields(grid, extra, file);
+  write_grid(grid, file);
 }
 
 } // namespace sphfem

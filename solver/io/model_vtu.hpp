@@ -9,15 +9,26 @@
 #include "solver/state/model.hpp"
 
 #include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
 
 namespace sphfem {
 
-// Appended raw binary, LZ4-compressed; written to `file` + ".tmp" and renamed. Throws
-// sphfem::Error naming the file if it cannot be written.
-void write_model_vtu(const Model& m, const std::filesystem::path& file);
+// Further integer arrays by name (a decomposition's rank, say): one value per cell and per point.
+struct VtuIntFields {
+  std::map<std::string, std::vector<int>> cells, points;
+};
 
-// The particles, written the same way. When the model has no particles nothing is written and
-// an existing `file` is removed, so no particles of an earlier model are left behind.
-void write_particles_vtu(const Model& m, const std::filesystem::path& file);
+// Appended raw binary, LZ4-compressed; written to `file` + ".tmp" and renamed. Throws
+// sphfem::Error naming the file if it cannot be written or an extra array has the wrong size.
+void write_model_vtu(const Model& m, const std::filesystem::path& file,
+                     const VtuIntFields& extra = {});
+
+// The particles, written the same way (their extra arrays are point arrays, one per particle).
+// When the model has no particles nothing is written and an existing `file` is removed, so no
+// particles of an earlier model are left behind.
+void write_particles_vtu(const Model& m, const std::filesystem::path& file,
+                         const VtuIntFields& extra = {});
 
 } // namespace sphfem

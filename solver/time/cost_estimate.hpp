@@ -12,6 +12,15 @@
 
 namespace sphfem {
 
+// Seconds of one thread per step of each entity (bench/README.md). The domain decomposition
+// weighs entities by the same figures (solver/parallel/decomposition.hpp).
+struct StepCost {
+  static constexpr double element = 500e-9;
+  static constexpr double node = 40e-9;
+  static constexpr double particle = 600e-9;
+  static constexpr double entry = 30e-9; // one neighbour-list entry, both pair loops
+};
+
 struct RunSize {
   Index elements = 0;
   Index nodes = 0;
@@ -22,10 +31,10 @@ struct RunSize {
 };
 
 inline double estimated_wall_s(const RunSize& s) {
-  constexpr double element_step = 500e-9, node_step = 40e-9, particle_step = 600e-9;
-  constexpr double entry_step = 30e-9, parallel_efficiency = 0.75, fixed_step = 2e-3;
-  const double one_thread = element_step * s.elements + node_step * s.nodes +
-                            particle_step * s.particles + entry_step * s.neighbour_entries;
+  constexpr double parallel_efficiency = 0.75, fixed_step = 2e-3;
+  const double one_thread = StepCost::element * s.elements + StepCost::node * s.nodes +
+                            StepCost::particle * s.particles +
+                            StepCost::entry * static_cast<double>(s.neighbour_entries);
   const double speedup = s.threads > 1 ? parallel_efficiency * s.threads : 1.0;
   return s.steps * (fixed_step + one_thread / speedup);
 }

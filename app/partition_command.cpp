@@ -1,0 +1,112 @@
+// `sphfem partition` (partition_command.hpp): options, the table, partition.json and the VTU
+// files. No physics here: solver/parallel/.
+#include "app/partition_command.hpp"
+
+#include "solver/io/atomic_file.hpp"
+#include "solver/io/model_vtu.hpp"
+#include "solver/parallel/decomposition.hpp"
+#include "solver/parallel/halo.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+namespace sphfem {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// One line in printf form.
+template <typename... Values> std::string line(const char* pattern, Values... values) {
+  char text[256];
+  std::snprintf(text, sizeof text, pattern, values...);
+  return text;
+}
+
+} // namespace
+
+CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
+  auto* cmd = app.add_subcommand(
+      "partition", "share a case among N MPI ranks: the decomposition, its balance and halos");
+  cmd->add_option("case", o.case_file, "case file (YAML, SI units)")->required();
+  cmd->add_option("-o,--out", o.out_dir, "output folder (model.h5 is made or reused there)")
+      ->required();
+  cmd->add_option("-n,--ranks", o.ranks, "number of ranks (parts)")
+      ->required()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--set", o.overrides, "override a case key (repeatable; value is YAML)")
+      ->take_all()
+      ->allow_extra_args(false);
+  cmd->add_flag("-q,--quiet", o.quiet, "no table on stderr");
+  cmd->footer(
+      "Recursive coordinate bisection (Zoltan) of the particles and the hexahedra, weighted by\n"
+      "each one's cost per step (bench/README.md's figures and its neighbour count); nodes go\n"
+      "with their elements. Per rank: what it owns, its ghost points (particles and background\n"
+      "particles of other ranks within h_i + h_j + skin of its own), its foreign nodes (nodes of\n"
+      "its elements owned by another rank) and the halo fraction (ghosts + foreign nodes) /\n"
+      "(own particles + own nodes). Writes OUT/partition.json, OUT/partition.vtu (hexahedra,\n"
+      "cell and point array 'rank', point array 'shared') and OUT/partition_particles.vtu.");
+  return cmd;
+}
+
+void run_partition_command(const PartitionCommandOptions& o, const Model& model, double skin) {
+  const EntityCosts costs = entity_costs(model);
+  const Decomposition d = decompose(model, costs, o.ranks);
+  const HaloCensus census = halo_census(model, costs, d, skin);
+
+  nlohmann::json parts = nlohmann::json::array();
+  double largest_halo = 0, halo_sum = 0;
+  for (const PartLoad& p : census.parts) {
+    largest_halo = std::max(largest_halo, p.halo_fraction());
+    halo_sum += p.halo_fraction();
+    parts.push_back({{"particles", p.particles},
+                     {"elements", p.elements},
+                     {"nodes", p.nodes},
+                     {"shared_nodes", p.shared_nodes},
+                     {"ghost_points", p.ghost_points},
+                     {"foreign_nodes", p.foreign_nodes},
+                     {"cost_s_per_step", p.cost_s},
+                     {"halo_fraction", p.halo_fraction()}});
+  }
+  const nlohmann::json summary = {
+      {"ranks", o.ranks},
+      {"method", "RCB (Zoltan), weighted by cost per step"},
+      {"skin_m", census.skin},
+      {"imbalance", census.imbalance},
+      {"halo_fraction", {{"max", largest_halo}, {"mean", halo_sum / o.ranks}}},
+      {"parts", parts}};
+  const fs::path out = o.out_dir;
+  fs::create_directories(out);
+  write_text_atomically(out / "partition.json", summary.dump(2) + "\n");
+
+  VtuIntFields mesh, particles;
+  mesh.cells["rank"] = d.part_e;
+  mesh.points["rank"] = d.part_n;
+  mesh.points["shared"].assign(d.shared_n.begin(), d.shared_n.end());
+  particles.points["rank"] = d.part_p;
+  write_model_vtu(model, out / "partition.vtu", mesh);
+  write_particles_vtu(model, out / "partition_particles.vtu", particles);
+
+  if (o.quiet)
+    return;
+  std::cerr << line("%5s %10s %10s %10s %8s %8s %8s %12s %6s\n", "rank", "particles", "elements",
+                    "nodes", "shared", "ghosts", "foreign", "cost ms/step", "halo");
+  for (std::size_t q = 0; q < census.parts.size(); ++q) {
+    const PartLoad& p = census.parts[q];
+    std::cerr << line("%5d %10d %10d %10d %8d %8d %8d %12.3f %6.3f\n", static_cast<int>(q),
+                      p.particles, p.elements, p.nodes, p.shared_nodes, p.ghost_points,
+                      p.foreign_nodes, p.cost_s * 1e3, p.halo_fraction());
+  }
+  std::cerr << line("imbalance %.4f (largest rank's cost / mean), halo fraction max %.3f mean "
+                    "%.3f, skin %.3g m\n",
+                    census.imbalance, largest_halo, halo_sum / o.ranks, census.skin)
+            << "partition: " << (out / "partition.json").string() << ", "
+            << (out / "partition.vtu").string() << "\n";
+}
+
+} // namespace sphfem

@@ -1,0 +1,238 @@
+#include "solver/parallel/decomposition.hpp"
+
+#include "solver/core/error.hpp"
+#include "solver/sph/neighbour_search.hpp"
+#include "solver/time/cost_estimate.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+
+#ifdef SPHFEM_HAVE_ZOLTAN
+#include <mpi.h>
+#include <zoltan.h>
+#endif
+
+namespace sphfem {
+
+EntityCosts entity_costs(const Model& m) {
+  const Index np = m.particle_count(), nb = static_cast<Index>(m.background_nodes.size());
+  std::vector<Vec3> x(m.x_p);
+  std::vector<double> h(m.h_p);
+  for (Index k = 0; k < nb; ++k) {
+    x.push_back(m.x_n[static_cast<std::size_t>(m.background_nodes[k])]);
+    h.push_back(m.h_background[k]);
+  }
+  NeighbourList list;
+  if (!x.empty()) {
+    NeighbourSearch search;
+    search.build(x, h, 0.0);
+    list = search.list();
+  }
+  const auto entries = [&list](Index row) {
+    return static_cast<double>(list.offsets[row + 1] - list.offsets[row]);
+  };
+
+  EntityCosts costs;
+  costs.particle.resize(static_cast<std::size_t>(np));
+  for (Index i = 0; i < np; ++i)
+    costs.particle[i] = StepCost::particle + StepCost::entry * entries(i);
+
+  // A node's cost (with its background particle's pair entries) is shared by its elements.
+  std::vector<double> node_cost(m.x_n.size(), StepCost::node);
+  for (Index k = 0; k < nb; ++k)
+    node_cost[static_cast<std::size_t>(m.background_nodes[k])] += StepCost::entry * entries(np + k);
+  std::vector<int> holders(m.x_n.size(), 0);
+  for (const Hex& e : m.hex_e)
+    for (const Index n : e)
+      ++holders[static_cast<std::size_t>(n)];
+  costs.element.resize(m.hex_e.size());
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+    double c = StepCost::element;
+    for (const Index n : m.hex_e[e])
+      c += node_cost[static_cast<std::size_t>(n)] / holders[static_cast<std::size_t>(n)];
+    costs.element[e] = c;
+  }
+  return costs;
+}
+
+namespace {
+
+// What RCB cuts: the particles first, then the elements at their centroids.
+struct Objects {
+  std::vector<Vec3> x;
+  std::vector<float> weight; // ns per step: Zoltan takes single-precision weights
+};
+
+} // namespace
+
+#ifdef SPHFEM_HAVE_ZOLTAN
+
+namespace {
+
+int object_count(void* data, int* ierr) {
+  *ierr = ZOLTAN_OK;
+  return static_cast<int>(static_cast<const Objects*>(data)->x.size());
+}
+
+void object_list(void* data, int, int, ZOLTAN_ID_PTR global_ids, ZOLTAN_ID_PTR local_ids, int,
+                 float* weights, int* ierr) {
+  const auto& o = *static_cast<const Objects*>(data);
+  for (std::size_t i = 0; i < o.x.size(); ++i) {
+    global_ids[i] = static_cast<ZOLTAN_ID_TYPE>(i);
+    local_ids[i] = static_cast<ZOLTAN_ID_TYPE>(i);
+    weights[i] = o.weight[i];
+  }
+  *ierr = ZOLTAN_OK;
+}
+
+int dimension(void*, int* ierr) {
+  *ierr = ZOLTAN_OK;
+  return 3;
+}
+
+void coordinates(void* data, int, int, int count, ZOLTAN_ID_PTR, ZOLTAN_ID_PTR local_ids, int,
+                 double* xyz, int* ierr) {
+  const auto& o = *static_cast<const Objects*>(data);
+  for (int k = 0; k < count; ++k)
+    for (int d = 0; d < 3; ++d)
+      xyz[3 * k + d] = o.x[local_ids[k]][d];
+  *ierr = ZOLTAN_OK;
+}
+
+// Zoltan needs MPI; a process that no launcher started starts it alone (Open MPI's singleton)
+// and ends it at exit, after MpiSession, which ends only what it started.
+void ensure_mpi() {
+  int started = 0;
+  MPI_Initialized(&started);
+  if (started)
+    return;
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  std::atexit([] {
+    int ended = 0;
+    MPI_Finalized(&ended);
+    if (!ended)
+      MPI_Finalize();
+  });
+}
+
+void set(Zoltan_Struct* zz, const char* name, const std::string& value) {
+  if (Zoltan_Set_Param(zz, name, value.c_str()) != ZOLTAN_OK)
+    throw Error("decomposition: Zoltan refused its parameter " + std::string(name) + " = " + value);
+}
+
+// Part of each object by Zoltan's RCB.
+std::vector<int> rcb_parts(Objects& o, int parts) {
+  ensure_mpi();
+  float version = 0;
+  if (Zoltan_Initialize(0, nullptr, &version) != ZOLTAN_OK)
+    throw Error("decomposition: Zoltan failed to start");
+  Zoltan_Struct* zz = Zoltan_Create(MPI_COMM_SELF);
+  std::vector<int> part(o.x.size(), 0);
+  try {
+    set(zz, "DEBUG_LEVEL", "0");
+    set(zz, "LB_METHOD", "RCB");
+    set(zz, "NUM_GID_ENTRIES", "1");
+    set(zz, "NUM_LID_ENTRIES", "1");
+    set(zz, "OBJ_WEIGHT_DIM", "1");
+    set(zz, "NUM_GLOBAL_PARTS", std::to_string(parts));
+    set(zz, "RETURN_LISTS", "PARTS");
+    set(zz, "IMBALANCE_TOL", "1.01");
+    Zoltan_Set_Num_Obj_Fn(zz, object_count, &o);
+    Zoltan_Set_Obj_List_Fn(zz, object_list, &o);
+    Zoltan_Set_Num_Geom_Fn(zz, dimension, &o);
+    Zoltan_Set_Geom_Multi_Fn(zz, coordinates, &o);
+
+    int changes = 0, gid_entries = 0, lid_entries = 0, imports = 0, exports = 0;
+    ZOLTAN_ID_PTR import_gids = nullptr, import_lids = nullptr;
+    ZOLTAN_ID_PTR export_gids = nullptr, export_lids = nullptr;
+    int *import_procs = nullptr, *import_parts = nullptr;
+    int *export_procs = nullptr, *export_parts = nullptr;
+    const int status =
+        Zoltan_LB_Partition(zz, &changes, &gid_entries, &lid_entries, &imports, &import_gids,
+                            &import_lids, &import_procs, &import_parts, &exports, &export_gids,
+                            &export_lids, &export_procs, &export_parts);
+    if (status != ZOLTAN_OK)
+      throw Error("decomposition: Zoltan's RCB failed (status " + std::to_string(status) + ")");
+    for (int k = 0; k < exports; ++k) // with RETURN_LISTS = PARTS: every object, with its part
+      part[export_lids[k]] = export_parts[k];
+    Zoltan_LB_Free_Part(&import_gids, &import_lids, &import_procs, &import_parts);
+    Zoltan_LB_Free_Part(&export_gids, &export_lids, &export_procs, &export_parts);
+  } catch (...) {
+    Zoltan_Destroy(&zz);
+    throw;
+  }
+  Zoltan_Destroy(&zz);
+  return part;
+}
+
+} // namespace
+
+bool decomposition_available() {
+  return true;
+}
+
+#else
+
+namespace {
+
+std::vector<int> rcb_parts(Objects&, int) {
+  throw Error("decomposition: this sphfem was built without MPI and Zoltan (Debian: "
+              "libopenmpi-dev, libtrilinos-zoltan-dev; CMake -DSPHFEM_MPI=ON)");
+}
+
+} // namespace
+
+bool decomposition_available() {
+  return false;
+}
+
+#endif
+
+Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
+  if (parts < 1)
+    throw Error("decomposition: the number of parts must be at least 1, got " +
+                std::to_string(parts));
+  if (costs.particle.size() != m.x_p.size() || costs.element.size() != m.hex_e.size())
+    throw Error("decomposition: the entity costs do not match the model");
+
+  Decomposition d;
+  d.parts = parts;
+  d.part_p.assign(m.x_p.size(), 0);
+  d.part_e.assign(m.hex_e.size(), 0);
+  if (parts > 1) {
+    Objects o;
+    for (std::size_t i = 0; i < m.x_p.size(); ++i) {
+      o.x.push_back(m.x_p[i]);
+      o.weight.push_back(static_cast<float>(costs.particle[i] * 1e9));
+    }
+    for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+      Vec3 c = Vec3::Zero();
+      for (const Index n : m.hex_e[e])
+        c += m.x_n[static_cast<std::size_t>(n)];
+      o.x.push_back(c / 8.0);
+      o.weight.push_back(static_cast<float>(costs.element[e] * 1e9));
+    }
+    const std::vector<int> part = rcb_parts(o, parts);
+    std::copy_n(part.begin(), m.x_p.size(), d.part_p.begin());
+    std::copy(part.begin() + static_cast<std::ptrdiff_t>(m.x_p.size()), part.end(),
+              d.part_e.begin());
+  }
+
+  d.part_n.assign(m.x_n.size(), parts);
+  d.shared_n.assign(m.x_n.size(), 0);
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
+    for (const Index n : m.hex_e[e]) {
+      int& owner = d.part_n[static_cast<std::size_t>(n)];
+      if (owner != parts && owner != d.part_e[e])
+        d.shared_n[static_cast<std::size_t>(n)] = 1;
+      owner = std::min(owner, d.part_e[e]);
+    }
+  for (int& owner : d.part_n)
+    if (owner == parts) // a node no element holds (none in a meshed model)
+      owner = 0;
+  return d;
+}
+
+} // namespace sphfem

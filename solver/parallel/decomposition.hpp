@@ -1,0 +1,46 @@
+// Domain decomposition of a model among ranks (issue 28, point 2): recursive coordinate
+// bisection (Zoltan's RCB) of the particles and the hexahedra (at their centroids), each weighted
+// by its measured cost per step (solver/time/cost_estimate.hpp's StepCost: a particle costs
+// StepCost::particle plus StepCost::entry per neighbour-list entry; an element StepCost::element
+// plus its share of the nodes). Elements and their nodes go together: a node belongs to the
+// lowest part among the elements that hold it, and is "shared" when elements of several parts
+// hold it (its forces and masses are then summed across those parts, METHOD.md §3). Background
+// particles are the FE nodes' own (§4.1) and follow their node.
+//
+// The partition is computed by Zoltan on one process for all parts (MPI_COMM_SELF), so it is
+// the same on every rank and for every rank count that asks for the same number of parts, and
+// repeats bit for bit. Verified by tests/parallel/decomposition_test.cpp.
+#pragma once
+
+#include "solver/state/model.hpp"
+
+#include <vector>
+
+namespace sphfem {
+
+// Seconds of one thread per step, per entity.
+struct EntityCosts {
+  std::vector<double> particle; // per particle of the model
+  std::vector<double> element;  // per hexahedron, with its share of the nodes' cost
+};
+
+// Costs from the model's reference configuration: each particle's neighbour-list entries are
+// counted among the particles and background particles within h_i + h_j (the kernel's reach).
+EntityCosts entity_costs(const Model& m);
+
+struct Decomposition {
+  int parts = 1;
+  std::vector<int> part_p;             // per particle
+  std::vector<int> part_e;             // per element
+  std::vector<int> part_n;             // per node: the lowest part among the elements holding it
+  std::vector<unsigned char> shared_n; // 1 when elements of more than one part hold the node
+};
+
+// True when this build can decompose (MPI and Zoltan found at configuration).
+bool decomposition_available();
+
+// RCB into `parts` parts (≥ 1) balancing the summed costs. Throws sphfem::Error when parts < 1,
+// when the costs do not match the model, or when the build has no Zoltan.
+Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
+
+} // namespace sphfem

@@ -1,0 +1,196 @@
+// The domain decomposition (solver/parallel/decomposition.hpp, halo.hpp) against counts worked
+// out by hand on lattices and blocks: a particle's neighbour-list entries in a cubic lattice,
+// the ghost layers a plane cut leaves on each side, the nodes a cut shares, and a cost-weighted
+// cut that gives the part with the dearer particles fewer entities.
+#include "solver/core/error.hpp"
+#include "solver/parallel/decomposition.hpp"
+#include "solver/parallel/halo.hpp"
+#include "solver/time/cost_estimate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+namespace sphfem {
+namespace {
+
+constexpr double mm = 1e-3;
+
+// nx × ny × nz particles of spacing 1 mm, h = 1.2 mm, from `origin`.
+void add_lattice(Model& m, int nx, int ny, int nz, const Vec3& origin = Vec3::Zero()) {
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        m.x_p.push_back(origin + mm * Vec3(i, j, k));
+        m.m_p.push_back(7.85e-6);
+        m.rho_p.push_back(7850);
+        m.h_p.push_back(1.2 * mm);
+        m.body_p.push_back(0);
+      }
+}
+
+// nx × ny × nz hexahedra of 1 mm from `origin` (gmsh order: bottom face counter-clockwise, then
+// the top face).
+void add_block(Model& m, int nx, int ny, int nz, const Vec3& origin = Vec3::Zero()) {
+  const auto first = static_cast<Index>(m.x_n.size());
+  const auto node = [&](int i, int j, int k) {
+    return first + static_cast<Index>(i + (nx + 1) * (j + (ny + 1) * k));
+  };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        m.x_n.push_back(origin + mm * Vec3(i, j, k));
+        m.body_n.push_back(1);
+      }
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        m.hex_e.push_back({node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
+                           node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
+                           node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)});
+        m.body_e.push_back(1);
+      }
+}
+
+#define REQUIRE_PARTITIONER()                                                                      \
+  if (!decomposition_available())                                                                  \
+  GTEST_SKIP() << "built without MPI and Zoltan"
+
+TEST(EntityCosts, ALatticeParticleCostsItsNeighbourEntries) {
+  // Lattice points within 2h = 2.4 spacings of a point: |v|² ≤ 5 → 1 + 6 + 12 + 8 + 6 + 24 = 57,
+  // the point itself excluded.
+  Model m;
+  add_lattice(m, 9, 9, 9);
+  const EntityCosts c = entity_costs(m);
+  const std::size_t centre = 4 + 9 * (4 + 9 * 4);
+  EXPECT_DOUBLE_EQ(c.particle[centre], StepCost::particle + 56 * StepCost::entry);
+  EXPECT_LT(c.particle[0], c.particle[centre]); // a corner has fewer neighbours
+}
+
+TEST(EntityCosts, AnElementCarriesItsShareOfTheNodes) {
+  // 2 × 1 × 1 block: 8 of each element's nodes, 4 of them shared with the other element.
+  Model m;
+  add_block(m, 2, 1, 1);
+  const EntityCosts c = entity_costs(m);
+  ASSERT_EQ(c.element.size(), 2u);
+  EXPECT_DOUBLE_EQ(c.element[0], StepCost::element + (4 + 4 * 0.5) * StepCost::node);
+  EXPECT_DOUBLE_EQ(c.element[0], c.element[1]);
+}
+
+TEST(Decomposition, OnePartNeedsNoPartitioner) {
+  Model m;
+  add_lattice(m, 3, 3, 3);
+  add_block(m, 2, 2, 2, Vec3(10 * mm, 0, 0));
+  const Decomposition d = decompose(m, entity_costs(m), 1);
+  EXPECT_EQ(d.parts, 1);
+  EXPECT_TRUE(std::all_of(d.part_p.begin(), d.part_p.end(), [](int p) { return p == 0; }));
+  EXPECT_TRUE(std::all_of(d.part_n.begin(), d.part_n.end(), [](int p) { return p == 0; }));
+  EXPECT_TRUE(std::none_of(d.shared_n.begin(), d.shared_n.end(), [](int s) { return s != 0; }));
+  const HaloCensus h = halo_census(m, entity_costs(m), d, 0.0);
+  EXPECT_EQ(h.parts[0].ghost_points, 0);
+  EXPECT_EQ(h.parts[0].foreign_nodes, 0);
+  EXPECT_DOUBLE_EQ(h.imbalance, 1.0);
+}
+
+TEST(Decomposition, APlaneCutOfALatticeLeavesTwoGhostLayersEachSide) {
+  REQUIRE_PARTITIONER();
+  Model m; // 8 × 4 × 4: equal costs on either side of x = 3.5 mm
+  add_lattice(m, 8, 4, 4);
+  const EntityCosts c = entity_costs(m);
+  const Decomposition d = decompose(m, c, 2);
+  for (std::size_t i = 0; i < m.x_p.size(); ++i) // one side each, cut between the layers
+    EXPECT_EQ(d.part_p[i] == d.part_p[0], m.x_p[i].x() < 3.5 * mm) << "particle " << i;
+
+  // Reach h_i + h_j = 2.4 mm: the layers 1 and 2 mm beyond the cut (2 × 16 particles).
+  const HaloCensus h0 = halo_census(m, c, d, 0.0);
+  for (const PartLoad& p : h0.parts) {
+    EXPECT_EQ(p.particles, 64);
+    EXPECT_EQ(p.ghost_points, 32);
+    EXPECT_DOUBLE_EQ(p.halo_fraction(), 0.5);
+  }
+  EXPECT_NEAR(h0.imbalance, 1.0, 1e-12);
+  // A skin of 0.7 mm reaches 3.1 mm: a third layer.
+  const HaloCensus h1 = halo_census(m, c, d, 0.7 * mm);
+  for (const PartLoad& p : h1.parts)
+    EXPECT_EQ(p.ghost_points, 48);
+}
+
+TEST(Decomposition, ElementsTakeTheirNodesAndACutSharesOnePlane) {
+  REQUIRE_PARTITIONER();
+  Model m; // 6 × 3 × 3 hexahedra
+  add_block(m, 6, 3, 3);
+  const EntityCosts c = entity_costs(m);
+  const Decomposition d = decompose(m, c, 2);
+  // Each node belongs to the lowest part of its elements, and is shared when they differ.
+  std::vector<std::set<int>> holders(m.x_n.size());
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
+    for (const Index n : m.hex_e[e])
+      holders[static_cast<std::size_t>(n)].insert(d.part_e[e]);
+  for (std::size_t n = 0; n < m.x_n.size(); ++n) {
+    EXPECT_EQ(d.part_n[n], *holders[n].begin());
+    EXPECT_EQ(d.shared_n[n] != 0, holders[n].size() > 1);
+  }
+  // The costs are symmetric about x = 3 mm: the cut is that plane of 4 × 4 nodes.
+  const HaloCensus h = halo_census(m, c, d, 0.0);
+  const PartLoad& low = h.parts[0];
+  const PartLoad& high = h.parts[1];
+  EXPECT_EQ(low.elements, 27);
+  EXPECT_EQ(high.elements, 27);
+  EXPECT_EQ(low.shared_nodes + high.shared_nodes, 16);
+  EXPECT_EQ(low.foreign_nodes + high.foreign_nodes, 16);
+  EXPECT_EQ(low.nodes + high.nodes, 7 * 4 * 4);
+  EXPECT_EQ(low.ghost_points + high.ghost_points, 0); // no particles: nothing within a kernel
+}
+
+TEST(Decomposition, CostsNotCountsAreBalanced) {
+  REQUIRE_PARTITIONER();
+  // A lattice of 10 × 6 × 6 particles beside a block of 10 × 6 × 6 hexahedra: a particle costs
+  // ≈ 3–4 × an element, so the part holding the particles must hold fewer entities.
+  Model m;
+  add_lattice(m, 10, 6, 6, Vec3(0.5 * mm, 0.5 * mm, 0.5 * mm));
+  add_block(m, 10, 6, 6, Vec3(10 * mm, 0, 0));
+  const EntityCosts c = entity_costs(m);
+  const Decomposition d = decompose(m, c, 2);
+  const HaloCensus h = halo_census(m, c, d, 0.0);
+  EXPECT_LT(h.imbalance, 1.05);
+  const PartLoad& a = h.parts[0];
+  const PartLoad& b = h.parts[1];
+  const PartLoad& sph = a.particles > b.particles ? a : b;
+  const PartLoad& fem = a.particles > b.particles ? b : a;
+  EXPECT_EQ(sph.elements, 0);
+  EXPECT_GT(fem.particles + fem.elements, 1.5 * (sph.particles + sph.elements));
+}
+
+TEST(Decomposition, ThreePartsRepeatBitForBitAndCoverEverything) {
+  REQUIRE_PARTITIONER();
+  Model m;
+  add_lattice(m, 9, 5, 4);
+  add_block(m, 9, 5, 3, Vec3(0, 0, 4 * mm));
+  const EntityCosts c = entity_costs(m);
+  const Decomposition a = decompose(m, c, 3);
+  const Decomposition b = decompose(m, c, 3);
+  EXPECT_EQ(a.part_p, b.part_p);
+  EXPECT_EQ(a.part_e, b.part_e);
+  EXPECT_EQ(a.part_n, b.part_n);
+  std::set<int> used(a.part_p.begin(), a.part_p.end());
+  used.insert(a.part_e.begin(), a.part_e.end());
+  EXPECT_EQ(used, (std::set<int>{0, 1, 2}));
+  EXPECT_LT(halo_census(m, c, a, 0.0).imbalance, 1.1);
+}
+
+TEST(Decomposition, BadRequestsAreRefused) {
+  Model m;
+  add_lattice(m, 2, 2, 2);
+  const EntityCosts c = entity_costs(m);
+  EXPECT_THROW(decompose(m, c, 0), Error);
+  EXPECT_THROW(decompose(m, EntityCosts{}, 1), Error);
+  const Decomposition d = decompose(m, c, 1);
+  EXPECT_THROW(halo_census(m, c, d, -1e-3), Error);
+  Model other;
+  add_lattice(other, 3, 2, 2);
+  EXPECT_THROW(halo_census(other, entity_costs(other), d, 0.0), Error);
+}
+
+} // namespace
+} // namespace sphfem
