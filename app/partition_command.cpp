@@ -2,6 +2,7 @@
 // files. No physics here: solver/parallel/.
 #include "app/partition_command.hpp"
 
+#include "post/run_balance.hpp"
 #include "solver/io/atomic_file.hpp"
 #include "solver/io/model_vtu.hpp"
 #include "solver/parallel/decomposition.hpp"
@@ -42,6 +43,9 @@ CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
   cmd->add_option("--set", o.overrides, "override a case key (repeatable; value is YAML)")
       ->take_all()
       ->allow_extra_args(false);
+  cmd->add_option("--run", o.run_dir,
+                  "a finished run of the case (its OUT): each rank's cost frame by frame, "
+                  "to OUT/partition_run.csv and .png");
   cmd->add_flag("-q,--quiet", o.quiet, "no table on stderr");
   cmd->footer(
       "Recursive coordinate bisection (Zoltan) of the particles and the hexahedra, weighted by\n"
@@ -50,7 +54,11 @@ CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
       "particles of other ranks within h_i + h_j + skin of its own), its foreign nodes (nodes of\n"
       "its elements owned by another rank) and the halo fraction (ghosts + foreign nodes) /\n"
       "(own particles + own nodes). Writes OUT/partition.json, OUT/partition.vtu (hexahedra,\n"
-      "cell and point array 'rank', point array 'shared') and OUT/partition_particles.vtu.");
+      "cell and point array 'rank', point array 'shared') and OUT/partition_particles.vtu.\n"
+      "With --run RUN (a finished run of the same case): each rank's cost per step in every\n"
+      "frame, the particles alive then at their neighbour counts then, the elements not eroded\n"
+      "(OUT/partition_run.csv, .png; 'run' in partition.json) — how far the work drifts from\n"
+      "the balance of t = 0 as the plug and debris leave.");
   return cmd;
 }
 
@@ -73,7 +81,7 @@ void run_partition_command(const PartitionCommandOptions& o, const Model& model,
                      {"cost_s_per_step", p.cost_s},
                      {"halo_fraction", p.halo_fraction()}});
   }
-  const nlohmann::json summary = {
+  nlohmann::json summary = {
       {"ranks", o.ranks},
       {"method", "RCB (Zoltan), weighted by cost per step"},
       {"skin_m", census.skin},
@@ -81,7 +89,20 @@ void run_partition_command(const PartitionCommandOptions& o, const Model& model,
       {"halo_fraction", {{"max", largest_halo}, {"mean", halo_sum / o.ranks}}},
       {"parts", parts}};
   const fs::path out = o.out_dir;
+  post::RunBalance run;
+  if (!o.run_dir.empty()) {
+    run = post::run_balance(o.run_dir, d, costs);
+    const auto worst = std::max_element(run.imbalance.begin(), run.imbalance.end());
+    summary["run"] = {{"dir", o.run_dir},
+                      {"frames", run.time_s.size()},
+                      {"imbalance_first", run.imbalance.front()},
+                      {"imbalance_last", run.imbalance.back()},
+                      {"imbalance_max", *worst},
+                      {"imbalance_max_at_s", run.time_s[worst - run.imbalance.begin()]}};
+  }
   fs::create_directories(out);
+  if (!run.time_s.empty())
+    post::write_run_balance(run, out / "partition_run.csv", out / "partition_run.png");
   write_text_atomically(out / "partition.json", summary.dump(2) + "\n");
 
   VtuIntFields mesh, particles;
@@ -107,6 +128,13 @@ void run_partition_command(const PartitionCommandOptions& o, const Model& model,
                     census.imbalance, largest_halo, halo_sum / o.ranks, census.skin)
             << "partition: " << (out / "partition.json").string() << ", "
             << (out / "partition.vtu").string() << "\n";
+  if (!run.time_s.empty())
+    std::cerr << line("run %s: imbalance %.4f in its first frame, %.4f in its last, at most %.4f "
+                      "(t = %.4g s), %zu frames",
+                      o.run_dir.c_str(), run.imbalance.front(), run.imbalance.back(),
+                      summary["run"]["imbalance_max"].get<double>(),
+                      summary["run"]["imbalance_max_at_s"].get<double>(), run.time_s.size())
+              << " → " << (out / "partition_run.csv").string() << ", .png\n";
 }
 
 } // namespace sphfem

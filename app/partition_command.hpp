@@ -2,8 +2,9 @@
 // decomposition (solver/parallel/decomposition.hpp: Zoltan's RCB weighted by each entity's
 // measured cost) and what each rank would hold and receive every step (solver/parallel/halo.hpp),
 // printed as a table and written to OUT/partition.json, with the ranks on the mesh and the
-// particles in OUT/partition.vtu and OUT/partition_particles.vtu for ParaView. Verified by
-// tests/e2e/partition_command_test.cpp.
+// particles in OUT/partition.vtu and OUT/partition_particles.vtu for ParaView. With --run, how
+// the work of a finished run of the case moves among those ranks, frame by frame
+// (post/run_balance.hpp). Verified by tests/e2e/partition_command_test.cpp.
 #pragma once
 
 #include "solver/state/model.hpp"
@@ -21,6 +22,7 @@ struct PartitionCommandOptions {
   std::string case_file, out_dir;
   std::vector<std::string> overrides;
   int ranks = 1;
+  std::string run_dir; // a finished run of the case: how its work moves among the ranks
   bool quiet = false;
 };
 

@@ -235,4 +235,23 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   return d;
 }
 
+std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
+                               std::span<const int> neighbours_p,
+                               std::span<const unsigned char> live_p,
+                               std::span<const unsigned char> live_e) {
+  const std::size_t np = d.part_p.size(), ne = d.part_e.size();
+  if (neighbours_p.size() != np || live_p.size() != np || live_e.size() != ne ||
+      costs.element.size() != ne)
+    throw Error("decomposition: the state's particles or elements are not the decomposition's");
+  std::vector<double> cost(static_cast<std::size_t>(d.parts), 0.0);
+  for (std::size_t i = 0; i < np; ++i)
+    if (live_p[i])
+      cost[static_cast<std::size_t>(d.part_p[i])] +=
+          StepCost::particle + StepCost::entry * neighbours_p[i];
+  for (std::size_t e = 0; e < ne; ++e)
+    if (live_e[e])
+      cost[static_cast<std::size_t>(d.part_e[e])] += costs.element[e];
+  return cost;
+}
+
 } // namespace sphfem

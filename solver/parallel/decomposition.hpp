@@ -14,6 +14,7 @@
 
 #include "solver/state/model.hpp"
 
+#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -42,5 +43,15 @@ bool decomposition_available();
 // RCB into `parts` parts (≥ 1) balancing the summed costs. Throws sphfem::Error when parts < 1,
 // when the costs do not match the model, or when the build has no Zoltan.
 Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
+
+// Each part's cost per step at a later state of the run, the decomposition kept: a live
+// particle costs StepCost::particle + StepCost::entry × its current neighbour count, a live
+// element its cost in `costs`; killed particles and eroded elements cost nothing. Shows how the
+// work moves as a plug and debris leave. Spans indexed as the model's particles and elements;
+// throws sphfem::Error when a size differs.
+std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
+                               std::span<const int> neighbours_p,
+                               std::span<const unsigned char> live_p,
+                               std::span<const unsigned char> live_e);
 
 } // namespace sphfem

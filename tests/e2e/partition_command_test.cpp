@@ -8,7 +8,9 @@
 
 #include <filesystem>
 #include <regex>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 using sphfem::test::slurp;
@@ -58,6 +60,51 @@ TEST(PartitionCommand, ShareTheGluedBarAmongThreeRanks) {
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_TRUE(again.err.empty()) << again.err;
   EXPECT_EQ(slurp(scratch.dir / "out" / "partition.json"), before);
+}
+
+TEST(PartitionCommand, ARunsWorkFrameByFrame) {
+  // A short run of the glued bar: elastic, nothing killed, so each rank's cost per step stays
+  // what the decomposition counted at t = 0 — two neighbour counts of independent code (the
+  // solver's kinematics loop, the decomposition's search) that must agree.
+  const sphfem::test::Scratch scratch("partition_command_run");
+  const std::string run = (scratch.dir / "run").string(), out = (scratch.dir / "out").string();
+  const auto solved = sphfem::test::run_sphfem(
+      "run " + case_file + " -o " + run + " -q --set time.end=2e-6", scratch.dir);
+  ASSERT_EQ(solved.code, 0) << solved.err;
+  const auto part = sphfem::test::run_sphfem(
+      "partition " + case_file + " -o " + out + " -n 3 --run " + run, scratch.dir);
+  ASSERT_EQ(part.code, 0) << part.err;
+  const auto json = nlohmann::json::parse(slurp(scratch.dir / "out" / "partition.json"));
+  ASSERT_TRUE(json.contains("run"));
+  const std::string csv = slurp(scratch.dir / "out" / "partition_run.csv");
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_EQ(line, "time_s,imbalance,cost_s_rank0,cost_s_rank1,cost_s_rank2");
+  int frames = 0;
+  while (std::getline(lines, line)) {
+    std::istringstream row(line);
+    std::string cell;
+    std::vector<double> v;
+    while (std::getline(row, cell, ','))
+      v.push_back(std::stod(cell));
+    ASSERT_EQ(v.size(), 5u) << line;
+    for (int q = 0; q < 3; ++q)
+      EXPECT_NEAR(v[2 + q], json["parts"][q]["cost_s_per_step"].get<double>(), 1e-3 * v[2 + q])
+          << "frame " << frames << ", rank " << q;
+    ++frames;
+  }
+  EXPECT_EQ(frames, json["run"]["frames"].get<int>());
+  EXPECT_GE(frames, 2);
+  EXPECT_TRUE(fs::exists(scratch.dir / "out" / "partition_run.png"));
+
+  // Another case's run is refused, naming it.
+  const std::string other = std::string(SPHFEM_SOURCE_DIR) + "/cases/bar_impact/case.yaml";
+  const auto wrong = sphfem::test::run_sphfem(
+      "partition " + other + " -o " + (scratch.dir / "other").string() + " -n 2 --run " + run,
+      scratch.dir);
+  EXPECT_EQ(wrong.code, 1);
+  EXPECT_NE(wrong.err.find("not of this case"), std::string::npos) << wrong.err;
 }
 
 TEST(PartitionCommand, BadInputIsRefused) {

@@ -179,6 +179,26 @@ TEST(Decomposition, ThreePartsRepeatBitForBitAndCoverEverything) {
   EXPECT_LT(halo_census(m, c, a, 0.0).imbalance, 1.1);
 }
 
+TEST(Decomposition, KilledAndErodedEntitiesLeaveTheirPartsCost) {
+  Model m;
+  add_lattice(m, 4, 4, 4);
+  add_block(m, 3, 3, 3, Vec3(10 * mm, 0, 0));
+  const EntityCosts c = entity_costs(m);
+  Decomposition d = decompose(m, c, 1);
+  d.parts = 2; // particles in part 0, elements in part 1, whatever RCB would do
+  std::fill(d.part_e.begin(), d.part_e.end(), 1);
+  const std::vector<unsigned char> all_p(m.x_p.size(), 1), none_p(m.x_p.size(), 0);
+  std::vector<unsigned char> live_e(m.hex_e.size(), 1);
+  const std::vector<int> ten(m.x_p.size(), 10);
+  const std::vector<double> start = part_costs(d, c, ten, all_p, live_e);
+  EXPECT_NEAR(start[0], 64 * (StepCost::particle + 10 * StepCost::entry), 1e-15);
+  live_e[0] = 0; // one element eroded, every particle killed
+  const std::vector<double> later = part_costs(d, c, ten, none_p, live_e);
+  EXPECT_EQ(later[0], 0.0);
+  EXPECT_NEAR(later[1], start[1] - c.element[0], 1e-15);
+  EXPECT_THROW(part_costs(d, c, std::vector<int>(3, 0), all_p, live_e), Error);
+}
+
 TEST(Decomposition, BadRequestsAreRefused) {
   Model m;
   add_lattice(m, 2, 2, 2);
