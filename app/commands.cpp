@@ -17,7 +17,6 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <tuple>
@@ -120,17 +119,6 @@ Model current_model(const Case& c, const fs::path& out, bool quiet) {
   return mesh_and_write(c, out, quiet);
 }
 
-// The neighbour-list skin a run of this model would use (sph/particle_system.cpp): sph.skin ×
-// twice the largest smoothing length of the particles and background particles.
-double run_skin(const Case& c, const Model& model) {
-  double largest_h = 0;
-  for (const double h : model.h_p)
-    largest_h = std::max(largest_h, h);
-  for (const double h : model.h_background)
-    largest_h = std::max(largest_h, h);
-  return c.sph.skin * 2.0 * largest_h;
-}
-
 void print_outputs(const fs::path& out, const nlohmann::json& summary) {
   std::cout << "results:  " << (out / "results.pvd").string() << "  (open in ParaView)\n"
             << "summary:  " << (out / "summary.json").string() << "\n"
@@ -200,7 +188,7 @@ int run_command_line(int argc, char** argv) {
     if (partition_cmd->parsed()) {
       const Case c = read_case(partition_o.case_file, partition_o.overrides);
       const Model model = current_model(c, partition_o.out_dir, partition_o.quiet);
-      run_partition_command(partition_o, model, run_skin(c, model));
+      run_partition_command(partition_o, c, model);
       return 0;
     }
     if (post_commands.parsed()) {

@@ -29,6 +29,17 @@ template <typename... Values> std::string line(const char* pattern, Values... va
   return text;
 }
 
+// The neighbour-list skin a run of this model would use (sph/particle_system.cpp): sph.skin ×
+// twice the largest smoothing length of the particles and background particles.
+double run_skin(const Case& c, const Model& model) {
+  double largest_h = 0;
+  for (const double h : model.h_p)
+    largest_h = std::max(largest_h, h);
+  for (const double h : model.h_background)
+    largest_h = std::max(largest_h, h);
+  return c.sph.skin * 2.0 * largest_h;
+}
+
 } // namespace
 
 CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
@@ -62,10 +73,10 @@ CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
   return cmd;
 }
 
-void run_partition_command(const PartitionCommandOptions& o, const Model& model, double skin) {
-  const EntityCosts costs = entity_costs(model);
+void run_partition_command(const PartitionCommandOptions& o, const Case& c, const Model& model) {
+  const EntityCosts costs = entity_costs(model, c.body_groups(), MirrorParticles(c).planes());
   const Decomposition d = decompose(model, costs, o.ranks);
-  const HaloCensus census = halo_census(model, costs, d, skin);
+  const HaloCensus census = halo_census(model, costs, d, run_skin(c, model));
 
   nlohmann::json parts = nlohmann::json::array();
   double largest_halo = 0, halo_sum = 0;

@@ -7,6 +7,7 @@
 // (post/run_balance.hpp). Verified by tests/e2e/partition_command_test.cpp.
 #pragma once
 
+#include "solver/io/case.hpp"
 #include "solver/state/model.hpp"
 
 #include <string>
@@ -29,8 +30,9 @@ struct PartitionCommandOptions {
 // Adds the subcommand to `app`, filling `o` when it is parsed.
 CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o);
 
-// Decomposes `model` (the case's, meshed by the caller) and writes the files. The skin is the
-// case's neighbour-list skin (sph.skin × the largest 2h). Throws sphfem::Error on bad input.
-void run_partition_command(const PartitionCommandOptions& o, const Model& model, double skin);
+// Decomposes `model` (the case's, meshed by the caller) and writes the files. The halo's skin
+// is the run's neighbour-list skin (sph.skin × the largest 2h); the costs count the mirror
+// images of the case's symmetry planes. Throws sphfem::Error on bad input.
+void run_partition_command(const PartitionCommandOptions& o, const Case& c, const Model& model);
 
 } // namespace sphfem

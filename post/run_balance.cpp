@@ -111,7 +111,7 @@ void write_run_balance(const RunBalance& b, const fs::path& csv, const fs::path&
   write_text_atomically(csv, text);
 
   LineChart chart(900, 500);
-  chart.set_title("Cost per step of the ranks, the decomposition of t = 0 kept");
+  chart.set_title("Cost per step of the ranks, each entity kept on its rank of t = 0");
   chart.set_x_label("time (µs)");
   chart.set_y_label("rank's cost / mean");
   chart.add_series("largest (the imbalance)", t_us, largest, {LineChart::palette(0)});

@@ -5,6 +5,7 @@
 #include "solver/time/cost_estimate.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 
@@ -15,13 +16,41 @@
 
 namespace sphfem {
 
-EntityCosts entity_costs(const Model& m) {
+EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group,
+                         const std::vector<MirrorParticles::Plane>& planes) {
   const Index np = m.particle_count(), nb = static_cast<Index>(m.background_nodes.size());
   std::vector<Vec3> x(m.x_p);
   std::vector<double> h(m.h_p);
+  std::vector<int> body(m.body_p);
   for (Index k = 0; k < nb; ++k) {
-    x.push_back(m.x_n[static_cast<std::size_t>(m.background_nodes[k])]);
+    const auto n = static_cast<std::size_t>(m.background_nodes[k]);
+    x.push_back(m.x_n[n]);
     h.push_back(m.h_background[k]);
+    body.push_back(m.body_n[n]);
+  }
+  // Mirror images, counted as neighbours only: across every non-empty subset of the planes of
+  // a point's group within reach of it (the corner of a quarter model gets three).
+  if (!planes.empty()) {
+    const double reach = 2.0 * *std::max_element(h.begin(), h.end());
+    const std::size_t points = x.size();
+    for (std::size_t i = 0; i < points; ++i) {
+      const auto b = static_cast<std::size_t>(body[i]);
+      if (b >= body_group.size())
+        throw Error("decomposition: no group for body " + std::to_string(body[i]));
+      std::vector<const MirrorParticles::Plane*> near;
+      for (const auto& plane : planes)
+        if (plane.group == body_group[b] &&
+            std::abs((x[i] - plane.point).dot(plane.normal)) < reach)
+          near.push_back(&plane);
+      for (unsigned subset = 1; subset < (1u << near.size()); ++subset) {
+        Vec3 image = x[i];
+        for (std::size_t k = 0; k < near.size(); ++k)
+          if (subset & (1u << k))
+            image -= 2.0 * (image - near[k]->point).dot(near[k]->normal) * near[k]->normal;
+        x.push_back(image);
+        h.push_back(h[i]);
+      }
+    }
   }
   NeighbourList list;
   if (!x.empty()) {

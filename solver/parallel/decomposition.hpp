@@ -12,6 +12,7 @@
 // repeats bit for bit. Verified by tests/parallel/decomposition_test.cpp.
 #pragma once
 
+#include "solver/sph/mirror_particles.hpp"
 #include "solver/state/model.hpp"
 
 #include <span>
@@ -26,8 +27,11 @@ struct EntityCosts {
 };
 
 // Costs from the model's reference configuration: each particle's neighbour-list entries are
-// counted among the particles and background particles within h_i + h_j (the kernel's reach).
-EntityCosts entity_costs(const Model& m);
+// counted among the particles, background particles and their mirror images across the case's
+// symmetry planes (solver/sph/mirror_particles.hpp; a plane acts on the bodies of its group,
+// `body_group` giving each body's) within h_i + h_j, the kernel's reach.
+EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group = {},
+                         const std::vector<MirrorParticles::Plane>& planes = {});
 
 struct Decomposition {
   int parts = 1;

@@ -23,6 +23,12 @@ public:
   // The planes of the case's symmetry conditions on SPH bodies and FE bodies in kernel contact.
   explicit MirrorParticles(const Case& c);
 
+  struct Plane {
+    int group; // of the body it bounds: an attached FE body's background particles share it
+    Vec3 point, normal;
+  };
+  const std::vector<Plane>& planes() const { return planes_; }
+
   bool empty() const { return planes_.empty(); }
   Index size() const { return static_cast<Index>(source_.size()); }
 
@@ -40,10 +46,6 @@ public:
   }
 
 private:
-  struct Plane {
-    int group; // of the body it bounds: an attached FE body's background particles share it
-    Vec3 point, normal;
-  };
   struct Image {
     Mat3 R; // x' = R x + t
     Vec3 t;

@@ -68,6 +68,27 @@ TEST(EntityCosts, ALatticeParticleCostsItsNeighbourEntries) {
   EXPECT_LT(c.particle[0], c.particle[centre]); // a corner has fewer neighbours
 }
 
+TEST(EntityCosts, MirrorImagesMakeAPlaneParticleAnInteriorOne) {
+  // A symmetry plane half a spacing before the first layer: with its images, a particle of
+  // that layer (away from the other faces) has the interior's 56 neighbours; without, it lacks
+  // the two missing layers' share. Two planes at a corner add the images across both.
+  Model m;
+  add_lattice(m, 9, 9, 9);
+  const std::vector<int> group{0};
+  const MirrorParticles::Plane xmin{0, Vec3(-0.5 * mm, 0, 0), Vec3(-1, 0, 0)};
+  const MirrorParticles::Plane ymin{0, Vec3(0, -0.5 * mm, 0), Vec3(0, -1, 0)};
+  const std::size_t face = 0 + 9 * (4 + 9 * 4), edge = 0 + 9 * (0 + 9 * 4);
+  const EntityCosts plain = entity_costs(m);
+  const EntityCosts mirrored = entity_costs(m, group, {xmin});
+  EXPECT_LT(plain.particle[face], mirrored.particle[face]);
+  EXPECT_NEAR(mirrored.particle[face], StepCost::particle + 56 * StepCost::entry, 1e-15);
+  const EntityCosts corner = entity_costs(m, group, {xmin, ymin});
+  EXPECT_NEAR(corner.particle[edge], StepCost::particle + 56 * StepCost::entry, 1e-15);
+  // A plane of another group mirrors nothing.
+  const MirrorParticles::Plane other{1, xmin.point, xmin.normal};
+  EXPECT_EQ(entity_costs(m, group, {other}).particle[face], plain.particle[face]);
+}
+
 TEST(EntityCosts, AnElementCarriesItsShareOfTheNodes) {
   // 2 × 1 × 1 block: 8 of each element's nodes, 4 of them shared with the other element.
   Model m;
