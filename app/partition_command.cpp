@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -38,6 +39,18 @@ double run_skin(const Case& c, const Model& model) {
   for (const double h : model.h_background)
     largest_h = std::max(largest_h, h);
   return c.sph.skin * 2.0 * largest_h;
+}
+
+// [[x, y, z] low, [x, y, z] high]; null for an unbounded side.
+nlohmann::json region(const Decomposition::Region& r) {
+  nlohmann::json corners = nlohmann::json::array();
+  for (const Vec3& x : {r.lo, r.hi}) {
+    nlohmann::json corner = nlohmann::json::array();
+    for (int k = 0; k < 3; ++k)
+      corner.push_back(std::isfinite(x[k]) ? nlohmann::json(x[k]) : nlohmann::json(nullptr));
+    corners.push_back(corner);
+  }
+  return corners;
 }
 
 } // namespace
@@ -80,7 +93,8 @@ void run_partition_command(const PartitionCommandOptions& o, const Case& c, cons
 
   nlohmann::json parts = nlohmann::json::array();
   double largest_halo = 0, halo_sum = 0;
-  for (const PartLoad& p : census.parts) {
+  for (std::size_t q = 0; q < census.parts.size(); ++q) {
+    const PartLoad& p = census.parts[q];
     largest_halo = std::max(largest_halo, p.halo_fraction());
     halo_sum += p.halo_fraction();
     parts.push_back({{"particles", p.particles},
@@ -90,7 +104,8 @@ void run_partition_command(const PartitionCommandOptions& o, const Case& c, cons
                      {"ghost_points", p.ghost_points},
                      {"foreign_nodes", p.foreign_nodes},
                      {"cost_s_per_step", p.cost_s},
-                     {"halo_fraction", p.halo_fraction()}});
+                     {"halo_fraction", p.halo_fraction()},
+                     {"region_m", region(d.regions[q])}});
   }
   nlohmann::json summary = {
       {"ranks", o.ranks},

@@ -7,6 +7,8 @@
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
 #include <vtkPointData.h>
 
 #include <algorithm>
@@ -32,11 +34,17 @@ vtkDataArray* values(vtkDataSetAttributes* data, const char* name, vtkIdType cou
   return a;
 }
 
+double imbalance(const std::vector<double>& cost) {
+  const double mean = std::accumulate(cost.begin(), cost.end(), 0.0) / cost.size();
+  return mean > 0 ? *std::max_element(cost.begin(), cost.end()) / mean : 1.0;
+}
+
 } // namespace
 
 RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const EntityCosts& costs) {
   RunBalance b;
   const std::size_t np = d.part_p.size(), ne = d.part_e.size();
+  Decomposition moved = d; // owners by region, carried from frame to frame
   for (const FrameFiles& files : frame_files(run_dir / "results.pvd")) {
     std::vector<int> neighbours(np, 0);
     std::vector<unsigned char> live_p(np, 0), live_e(ne, ne > 0 ? 1 : 0);
@@ -54,6 +62,10 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
                      " particles: the run is not of this case");
         neighbours[static_cast<std::size_t>(i)] = static_cast<int>(count->GetComponent(k, 0));
         live_p[static_cast<std::size_t>(i)] = !killed || killed->GetComponent(k, 0) == 0;
+        double x[3];
+        grid->GetPoint(k, x);
+        int& owner = moved.part_p[static_cast<std::size_t>(i)];
+        owner = moved.part_at(Vec3(x[0], x[1], x[2]), owner);
       }
     } else {
       SPHFEM_CHECK(np == 0, run_dir.string(), ": the run has no particle frames, the case has ", np,
@@ -67,55 +79,76 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
       auto* eroded = values(grid->GetCellData(), "eroded", n, files.elements, false);
       for (vtkIdType e = 0; eroded && e < n; ++e)
         live_e[static_cast<std::size_t>(e)] = eroded->GetComponent(e, 0) == 0;
+      vtkNew<vtkIdList> ids;
+      for (vtkIdType e = 0; e < n; ++e) {
+        grid->GetCellPoints(e, ids);
+        Vec3 centre = Vec3::Zero();
+        for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+          double x[3];
+          grid->GetPoint(ids->GetId(k), x);
+          centre += Vec3(x[0], x[1], x[2]);
+        }
+        int& owner = moved.part_e[static_cast<std::size_t>(e)];
+        owner = moved.part_at(centre / static_cast<double>(ids->GetNumberOfIds()), owner);
+      }
     } else {
       SPHFEM_CHECK(ne == 0, run_dir.string(), ": the run has no element frames, the case has ", ne,
                    " hexahedra");
     }
-    const std::vector<double> cost = part_costs(d, costs, neighbours, live_p, live_e);
-    const double mean = std::accumulate(cost.begin(), cost.end(), 0.0) / cost.size();
     b.time_s.push_back(files.time);
-    b.imbalance.push_back(mean > 0 ? *std::max_element(cost.begin(), cost.end()) / mean : 1.0);
-    b.cost_s.push_back(cost);
+    b.cost_s.push_back(part_costs(d, costs, neighbours, live_p, live_e));
+    b.imbalance.push_back(imbalance(b.cost_s.back()));
+    b.region_cost_s.push_back(part_costs(moved, costs, neighbours, live_p, live_e));
+    b.region_imbalance.push_back(imbalance(b.region_cost_s.back()));
   }
   return b;
 }
 
 void write_run_balance(const RunBalance& b, const fs::path& csv, const fs::path& png) {
   const std::size_t parts = b.cost_s.empty() ? 0 : b.cost_s.front().size();
-  std::string text = "time_s,imbalance";
-  for (std::size_t q = 0; q < parts; ++q)
-    text += ",cost_s_rank" + std::to_string(q);
+  std::string text = "time_s,imbalance,region_imbalance";
+  for (const char* kind : {"cost_s_rank", "region_cost_s_rank"})
+    for (std::size_t q = 0; q < parts; ++q)
+      text.append(",").append(kind).append(std::to_string(q));
   text += "\n";
   char number[32];
   const auto add = [&](double value) {
-    std::snprintf(number, sizeof number, "%.9g", value);
+    std::snprintf(number, sizeof number, ",%.9g", value);
     text += number;
   };
-  std::vector<double> t_us, largest, smallest;
+  std::vector<double> t_us;
+  std::vector<double> largest[2], smallest[2];
   for (std::size_t f = 0; f < b.time_s.size(); ++f) {
-    add(b.time_s[f]);
-    text += ",";
+    std::snprintf(number, sizeof number, "%.9g", b.time_s[f]);
+    text += number;
     add(b.imbalance[f]);
-    for (const double c : b.cost_s[f]) {
-      text += ",";
-      add(c);
-    }
+    add(b.region_imbalance[f]);
+    for (const auto* cost : {&b.cost_s[f], &b.region_cost_s[f]})
+      for (const double c : *cost)
+        add(c);
     text += "\n";
-    const double mean =
-        std::accumulate(b.cost_s[f].begin(), b.cost_s[f].end(), 0.0) / static_cast<double>(parts);
     t_us.push_back(b.time_s[f] * 1e6);
-    largest.push_back(b.imbalance[f]);
-    smallest.push_back(mean > 0 ? *std::min_element(b.cost_s[f].begin(), b.cost_s[f].end()) / mean
-                                : 1.0);
+    for (int k = 0; k < 2; ++k) {
+      const std::vector<double>& cost = k == 0 ? b.cost_s[f] : b.region_cost_s[f];
+      const double mean =
+          std::accumulate(cost.begin(), cost.end(), 0.0) / static_cast<double>(parts);
+      largest[k].push_back(mean > 0 ? *std::max_element(cost.begin(), cost.end()) / mean : 1.0);
+      smallest[k].push_back(mean > 0 ? *std::min_element(cost.begin(), cost.end()) / mean : 1.0);
+    }
   }
   write_text_atomically(csv, text);
 
   LineChart chart(900, 500);
-  chart.set_title("Cost per step of the ranks, each entity kept on its rank of t = 0");
+  chart.set_title("Cost per step of the ranks, the decomposition of t = 0 kept");
   chart.set_x_label("time (µs)");
   chart.set_y_label("rank's cost / mean");
-  chart.add_series("largest (the imbalance)", t_us, largest, {LineChart::palette(0)});
-  chart.add_series("smallest", t_us, smallest, {LineChart::palette(1)});
+  chart.add_series("largest, entities kept on their rank", t_us, largest[0],
+                   {LineChart::palette(0)});
+  chart.add_series("smallest, entities kept", t_us, smallest[0],
+                   {LineChart::palette(0), 2.0, true});
+  chart.add_series("largest, entities owned by their region", t_us, largest[1],
+                   {LineChart::palette(1)});
+  chart.add_series("smallest, by region", t_us, smallest[1], {LineChart::palette(1), 2.0, true});
   chart.write_png(png);
 }
 

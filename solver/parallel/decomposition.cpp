@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string>
 
 #ifdef SPHFEM_HAVE_ZOLTAN
@@ -151,8 +152,8 @@ void set(Zoltan_Struct* zz, const char* name, const std::string& value) {
     throw Error("decomposition: Zoltan refused its parameter " + std::string(name) + " = " + value);
 }
 
-// Part of each object by Zoltan's RCB.
-std::vector<int> rcb_parts(Objects& o, int parts) {
+// Part of each object by Zoltan's RCB, and each part's region.
+std::vector<int> rcb_parts(Objects& o, int parts, std::vector<Decomposition::Region>& regions) {
   ensure_mpi();
   float version = 0;
   if (Zoltan_Initialize(0, nullptr, &version) != ZOLTAN_OK)
@@ -168,6 +169,7 @@ std::vector<int> rcb_parts(Objects& o, int parts) {
     set(zz, "NUM_GLOBAL_PARTS", std::to_string(parts));
     set(zz, "RETURN_LISTS", "PARTS");
     set(zz, "IMBALANCE_TOL", "1.01");
+    set(zz, "KEEP_CUTS", "1"); // for the regions
     Zoltan_Set_Num_Obj_Fn(zz, object_count, &o);
     Zoltan_Set_Obj_List_Fn(zz, object_list, &o);
     Zoltan_Set_Num_Geom_Fn(zz, dimension, &o);
@@ -186,6 +188,21 @@ std::vector<int> rcb_parts(Objects& o, int parts) {
       throw Error("decomposition: Zoltan's RCB failed (status " + std::to_string(status) + ")");
     for (int k = 0; k < exports; ++k) // with RETURN_LISTS = PARTS: every object, with its part
       part[export_lids[k]] = export_parts[k];
+    regions.resize(static_cast<std::size_t>(parts));
+    for (int q = 0; q < parts; ++q) {
+      int dimensions = 0;
+      Vec3& lo = regions[static_cast<std::size_t>(q)].lo;
+      Vec3& hi = regions[static_cast<std::size_t>(q)].hi;
+      if (Zoltan_RCB_Box(zz, q, &dimensions, &lo.x(), &lo.y(), &lo.z(), &hi.x(), &hi.y(),
+                         &hi.z()) != ZOLTAN_OK)
+        throw Error("decomposition: Zoltan gave no region for part " + std::to_string(q));
+      for (int k = 0; k < 3; ++k) { // Zoltan's ±DBL_MAX: unbounded
+        if (lo[k] <= -std::numeric_limits<double>::max())
+          lo[k] = -std::numeric_limits<double>::infinity();
+        if (hi[k] >= std::numeric_limits<double>::max())
+          hi[k] = std::numeric_limits<double>::infinity();
+      }
+    }
     Zoltan_LB_Free_Part(&import_gids, &import_lids, &import_procs, &import_parts);
     Zoltan_LB_Free_Part(&export_gids, &export_lids, &export_procs, &export_parts);
   } catch (...) {
@@ -206,7 +223,7 @@ bool decomposition_available() {
 
 namespace {
 
-std::vector<int> rcb_parts(Objects&, int) {
+std::vector<int> rcb_parts(Objects&, int, std::vector<Decomposition::Region>&) {
   throw Error("decomposition: this sphfem was built without MPI and Zoltan (Debian: "
               "libopenmpi-dev, libtrilinos-zoltan-dev; CMake -DSPHFEM_MPI=ON)");
 }
@@ -230,6 +247,8 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   d.parts = parts;
   d.part_p.assign(m.x_p.size(), 0);
   d.part_e.assign(m.hex_e.size(), 0);
+  constexpr double infinity = std::numeric_limits<double>::infinity();
+  d.regions.assign(1, {Vec3::Constant(-infinity), Vec3::Constant(infinity)});
   if (parts > 1) {
     Objects o;
     for (std::size_t i = 0; i < m.x_p.size(); ++i) {
@@ -243,7 +262,7 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
       o.x.push_back(c / 8.0);
       o.weight.push_back(static_cast<float>(costs.element[e] * 1e9));
     }
-    const std::vector<int> part = rcb_parts(o, parts);
+    const std::vector<int> part = rcb_parts(o, parts, d.regions);
     std::copy_n(part.begin(), m.x_p.size(), d.part_p.begin());
     std::copy(part.begin() + static_cast<std::ptrdiff_t>(m.x_p.size()), part.end(),
               d.part_e.begin());
@@ -262,6 +281,16 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
     if (owner == parts) // a node no element holds (none in a meshed model)
       owner = 0;
   return d;
+}
+
+int Decomposition::part_at(const Vec3& x, int current) const {
+  if (current >= 0 && current < parts && regions[static_cast<std::size_t>(current)].holds(x))
+    return current;
+  for (std::size_t q = 0; q < regions.size(); ++q)
+    if (regions[q].holds(x))
+      return static_cast<int>(q);
+  throw Error("decomposition: no region holds the point (" + std::to_string(x.x()) + ", " +
+              std::to_string(x.y()) + ", " + std::to_string(x.z()) + ") m");
 }
 
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,

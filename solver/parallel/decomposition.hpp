@@ -34,11 +34,25 @@ EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group = {}
                          const std::vector<MirrorParticles::Plane>& planes = {});
 
 struct Decomposition {
+  // Each part's region: the box RCB's cuts bound it by (infinite on the model's outer sides).
+  // The regions tile space; a moving entity's owner is the region it is in (part_at).
+  struct Region {
+    Vec3 lo, hi;
+    bool holds(const Vec3& x) const { // faces included
+      return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+    }
+  };
+
   int parts = 1;
+  std::vector<Region> regions;         // per part
   std::vector<int> part_p;             // per particle
   std::vector<int> part_e;             // per element
   std::vector<int> part_n;             // per node: the lowest part among the elements holding it
   std::vector<unsigned char> shared_n; // 1 when elements of more than one part hold the node
+
+  // The owner of an entity at x: `current` while its region still holds x (RCB splits the
+  // entities lying on a cut between the two sides), else the lowest part whose region does.
+  int part_at(const Vec3& x, int current = -1) const;
 };
 
 // True when this build can decompose (MPI and Zoltan found at configuration).

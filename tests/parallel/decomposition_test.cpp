@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace sphfem {
@@ -194,6 +195,22 @@ TEST(Decomposition, ThreePartsRepeatBitForBitAndCoverEverything) {
   EXPECT_EQ(a.part_p, b.part_p);
   EXPECT_EQ(a.part_e, b.part_e);
   EXPECT_EQ(a.part_n, b.part_n);
+  // Each entity lies in its part's region (particles at their positions, elements at their
+  // centroids) and keeps it there, also where RCB split a layer lying on a cut; regions tile
+  // space, their outer sides unbounded.
+  for (std::size_t i = 0; i < m.x_p.size(); ++i)
+    EXPECT_EQ(a.part_at(m.x_p[i], a.part_p[i]), a.part_p[i]) << "particle " << i;
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+    Vec3 c = Vec3::Zero();
+    for (const Index n : m.hex_e[e])
+      c += m.x_n[static_cast<std::size_t>(n)] / 8.0;
+    EXPECT_EQ(a.part_at(c, a.part_e[e]), a.part_e[e]) << "element " << e;
+  }
+  for (const Vec3& far : {Vec3(-1e300, -1e300, 1e300), Vec3(1e300, 2e300, -1e300)})
+    EXPECT_NO_THROW(a.part_at(far));
+  // A particle moved 1 m along +x belongs to a region unbounded that way.
+  const int far_part = a.part_at(m.x_p[0] + Vec3(1.0, 0, 0), a.part_p[0]);
+  EXPECT_TRUE(std::isinf(a.regions[static_cast<std::size_t>(far_part)].hi.x()));
   std::set<int> used(a.part_p.begin(), a.part_p.end());
   used.insert(a.part_e.begin(), a.part_e.end());
   EXPECT_EQ(used, (std::set<int>{0, 1, 2}));
