@@ -1,3 +1,5 @@
+// Each rank's cost per frame of a run under the two ownerships, and its CSV and chart
+// (run_balance.hpp). Verified by tests/e2e/partition_command_test.cpp.
 #include "post/run_balance.hpp"
 
 #include "post/frames.hpp"

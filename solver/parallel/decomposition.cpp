@@ -1,3 +1,5 @@
+// Entity costs, Zoltan's RCB and its regions, node ownership and the costs of a later state
+// (decomposition.hpp). Verified by tests/parallel/decomposition_test.cpp.
 #include "solver/parallel/decomposition.hpp"
 
 #include "solver/core/error.hpp"

@@ -1,3 +1,6 @@
+// The census of what each part holds and receives (halo.hpp): owned counts, foreign nodes, and
+// ghost points from one neighbour search over particles and background particles.
+// Verified by tests/parallel/decomposition_test.cpp.
 #include "solver/parallel/halo.hpp"
 
 #include "solver/core/error.hpp"
