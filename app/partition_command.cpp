@@ -80,9 +80,10 @@ CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
       "(own particles + own nodes). Writes OUT/partition.json, OUT/partition.vtu (hexahedra,\n"
       "cell and point array 'rank', point array 'shared') and OUT/partition_particles.vtu.\n"
       "With --run RUN (a finished run of the same case): each rank's cost per step in every\n"
-      "frame, the particles alive then at their neighbour counts then, the elements not eroded\n"
-      "(OUT/partition_run.csv, .png; 'run' in partition.json) — how far the work drifts from\n"
-      "the balance of t = 0 as the plug and debris leave.");
+      "frame, the particles alive then at their neighbour counts then, the elements not eroded,\n"
+      "each entity kept on its rank of t = 0 or owned by the rank whose region (RCB's box) it\n"
+      "is in then (OUT/partition_run.csv, .png; 'run' in partition.json) — how far the work\n"
+      "drifts from the balance of t = 0 as the plug and debris leave.");
   return cmd;
 }
 
@@ -118,13 +119,21 @@ void run_partition_command(const PartitionCommandOptions& o, const Case& c, cons
   post::RunBalance run;
   if (!o.run_dir.empty()) {
     run = post::run_balance(o.run_dir, d, costs);
-    const auto worst = std::max_element(run.imbalance.begin(), run.imbalance.end());
+    // The largest imbalance of a series and when: {value, time_s}.
+    const auto largest = [&run](const std::vector<double>& series) {
+      const auto worst = std::max_element(series.begin(), series.end());
+      return nlohmann::json{{"value", *worst}, {"at_s", run.time_s[worst - series.begin()]}};
+    };
     summary["run"] = {{"dir", o.run_dir},
                       {"frames", run.time_s.size()},
-                      {"imbalance_first", run.imbalance.front()},
-                      {"imbalance_last", run.imbalance.back()},
-                      {"imbalance_max", *worst},
-                      {"imbalance_max_at_s", run.time_s[worst - run.imbalance.begin()]}};
+                      {"entities_kept",
+                       {{"imbalance_first", run.imbalance.front()},
+                        {"imbalance_last", run.imbalance.back()},
+                        {"imbalance_max", largest(run.imbalance)}}},
+                      {"by_region",
+                       {{"imbalance_first", run.region_imbalance.front()},
+                        {"imbalance_last", run.region_imbalance.back()},
+                        {"imbalance_max", largest(run.region_imbalance)}}}};
   }
   fs::create_directories(out);
   if (!run.time_s.empty())
@@ -155,11 +164,11 @@ void run_partition_command(const PartitionCommandOptions& o, const Case& c, cons
             << "partition: " << (out / "partition.json").string() << ", "
             << (out / "partition.vtu").string() << "\n";
   if (!run.time_s.empty())
-    std::cerr << line("run %s: imbalance %.4f in its first frame, %.4f in its last, at most %.4f "
-                      "(t = %.4g s), %zu frames",
-                      o.run_dir.c_str(), run.imbalance.front(), run.imbalance.back(),
-                      summary["run"]["imbalance_max"].get<double>(),
-                      summary["run"]["imbalance_max_at_s"].get<double>(), run.time_s.size())
+    std::cerr << "run " << o.run_dir
+              << line(", %zu frames: imbalance, entities kept on their rank: %.4f first, %.4f "
+                      "last; entities owned by their region: %.4f first, %.4f last",
+                      run.time_s.size(), run.imbalance.front(), run.imbalance.back(),
+                      run.region_imbalance.front(), run.region_imbalance.back())
               << " → " << (out / "partition_run.csv").string() << ", .png\n";
 }
 

@@ -98,6 +98,10 @@ TEST(PartitionCommand, ARunsWorkFrameByFrame) {
     ++frames;
   }
   EXPECT_EQ(frames, json["run"]["frames"].get<int>());
+  for (const char* ownership : {"entities_kept", "by_region"})
+    EXPECT_NEAR(json["run"][ownership]["imbalance_max"]["value"].get<double>(),
+                json["imbalance"].get<double>(), 1e-3)
+        << ownership;
   EXPECT_GE(frames, 2);
   EXPECT_TRUE(fs::exists(scratch.dir / "out" / "partition_run.png"));
 
