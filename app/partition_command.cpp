@@ -88,7 +88,7 @@ CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
 }
 
 void run_partition_command(const PartitionCommandOptions& o, const Case& c, const Model& model) {
-  const EntityCosts costs = entity_costs(model, c.body_groups(), MirrorParticles(c).planes());
+  const EntityCosts costs = entity_costs(model, c.body_groups(), MirrorParticles(c));
   const Decomposition d = decompose(model, costs, o.ranks);
   const HaloCensus census = halo_census(model, costs, d, run_skin(c, model));
 

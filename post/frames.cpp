@@ -94,4 +94,15 @@ vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& file) {
   return grid;
 }
 
+vtkDataArray* frame_array(vtkDataSetAttributes* data, const char* name, int components,
+                          vtkIdType count, const fs::path& file, bool required) {
+  vtkDataArray* a = data->GetArray(name);
+  SPHFEM_CHECK(a || !required, file.string(), ": no ", name, " array");
+  if (a)
+    SPHFEM_CHECK(a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == count,
+                 file.string(), ": array ", name, " has ", a->GetNumberOfTuples(), "×",
+                 a->GetNumberOfComponents(), " values, expected ", count, "×", components);
+  return a;
+}
+
 } // namespace sphfem::post

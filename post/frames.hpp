@@ -3,6 +3,8 @@
 // to a time, and one VTU file read with VTK's own reader. Used by post section and post plug.
 #pragma once
 
+#include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 
@@ -26,5 +28,10 @@ std::size_t nearest_frame(const std::vector<FrameFiles>& frames, std::optional<d
 // One frame file; a missing or unreadable one (VTK's reason in the message, VTK's own printing
 // silenced), or one whose cells refer to points it does not have, is an Error naming it.
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::filesystem::path& file);
+
+// A frame file's named array with `count` tuples of `components` values; an Error naming the
+// file if it has another shape, or if it is absent and `required` (else nullptr).
+vtkDataArray* frame_array(vtkDataSetAttributes* data, const char* name, int components,
+                          vtkIdType count, const std::filesystem::path& file, bool required = true);
 
 } // namespace sphfem::post

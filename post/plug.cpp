@@ -45,17 +45,6 @@ struct Frame {
   std::vector<char> eroded_e;
 };
 
-vtkDataArray* array(vtkDataSetAttributes* data, const char* name, int components, vtkIdType count,
-                    const fs::path& file, bool required = true) {
-  vtkDataArray* a = data->GetArray(name);
-  SPHFEM_CHECK(a || !required, file.string(), ": no ", name, " array");
-  if (a)
-    SPHFEM_CHECK(a->GetNumberOfComponents() == components && a->GetNumberOfTuples() == count,
-                 file.string(), ": array ", name, " has ", a->GetNumberOfTuples(), "×",
-                 a->GetNumberOfComponents(), " values, expected ", count, "×", components);
-  return a;
-}
-
 Vec3 tuple3(vtkDataArray* a, vtkIdType i) {
   const double* t = a->GetTuple3(i);
   return {t[0], t[1], t[2]};
@@ -67,10 +56,10 @@ Frame read_frame(const FrameFiles& files) {
     const auto grid = read_vtu(files.particles);
     const vtkIdType n = grid->GetNumberOfPoints();
     auto* pd = grid->GetPointData();
-    auto* v = array(pd, "velocity", 3, n, files.particles);
-    auto* m = array(pd, "mass", 1, n, files.particles);
-    auto* body = array(pd, "body_id", 1, n, files.particles);
-    auto* killed = array(pd, "killed", 1, n, files.particles, false);
+    auto* v = frame_array(pd, "velocity", 3, n, files.particles);
+    auto* m = frame_array(pd, "mass", 1, n, files.particles);
+    auto* body = frame_array(pd, "body_id", 1, n, files.particles);
+    auto* killed = frame_array(pd, "killed", 1, n, files.particles, false);
     for (vtkIdType i = 0; i < n; ++i) {
       double x[3];
       grid->GetPoint(i, x);
@@ -84,11 +73,11 @@ Frame read_frame(const FrameFiles& files) {
   if (!files.elements.empty()) {
     const auto grid = read_vtu(files.elements);
     const vtkIdType n = grid->GetNumberOfPoints(), ne = grid->GetNumberOfCells();
-    auto* v = array(grid->GetPointData(), "velocity", 3, n, files.elements);
+    auto* v = frame_array(grid->GetPointData(), "velocity", 3, n, files.elements);
     auto* cd = grid->GetCellData();
-    auto* density = array(cd, "density", 1, ne, files.elements);
-    auto* body = array(cd, "body_id", 1, ne, files.elements);
-    auto* eroded = array(cd, "eroded", 1, ne, files.elements, false);
+    auto* density = frame_array(cd, "density", 1, ne, files.elements);
+    auto* body = frame_array(cd, "body_id", 1, ne, files.elements);
+    auto* eroded = frame_array(cd, "eroded", 1, ne, files.elements, false);
     for (vtkIdType i = 0; i < n; ++i) {
       double x[3];
       grid->GetPoint(i, x);

@@ -24,18 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The named one-component array with `count` values, or nullptr when absent and not required.
-vtkDataArray* values(vtkDataSetAttributes* data, const char* name, vtkIdType count,
-                     const fs::path& file, bool required) {
-  vtkDataArray* a = data->GetArray(name);
-  SPHFEM_CHECK(a || !required, file.string(), ": no ", name, " array");
-  if (a)
-    SPHFEM_CHECK(a->GetNumberOfComponents() == 1 && a->GetNumberOfTuples() == count, file.string(),
-                 ": array ", name, " has ", a->GetNumberOfTuples(), "×", a->GetNumberOfComponents(),
-                 " values, expected ", count, "×1");
-  return a;
-}
-
 double imbalance(const std::vector<double>& cost) {
   const double mean = std::accumulate(cost.begin(), cost.end(), 0.0) / cost.size();
   return mean > 0 ? *std::max_element(cost.begin(), cost.end()) / mean : 1.0;
@@ -54,9 +42,9 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
       const auto grid = read_vtu(files.particles);
       const vtkIdType n = grid->GetNumberOfPoints();
       auto* pd = grid->GetPointData();
-      auto* id = values(pd, "id", n, files.particles, true);
-      auto* count = values(pd, "neighbours", n, files.particles, true);
-      auto* killed = values(pd, "killed", n, files.particles, false);
+      auto* id = frame_array(pd, "id", 1, n, files.particles);
+      auto* count = frame_array(pd, "neighbours", 1, n, files.particles);
+      auto* killed = frame_array(pd, "killed", 1, n, files.particles, false);
       for (vtkIdType k = 0; k < n; ++k) {
         const auto i = static_cast<long long>(id->GetComponent(k, 0));
         SPHFEM_CHECK(i >= 0 && static_cast<std::size_t>(i) < np, files.particles.string(),
@@ -78,7 +66,7 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
       const vtkIdType n = grid->GetNumberOfCells();
       SPHFEM_CHECK(static_cast<std::size_t>(n) == ne, files.elements.string(), ": ", n,
                    " hexahedra, the case has ", ne, ": the run is not of this case");
-      auto* eroded = values(grid->GetCellData(), "eroded", n, files.elements, false);
+      auto* eroded = frame_array(grid->GetCellData(), "eroded", 1, n, files.elements, false);
       for (vtkIdType e = 0; eroded && e < n; ++e)
         live_e[static_cast<std::size_t>(e)] = eroded->GetComponent(e, 0) == 0;
       vtkNew<vtkIdList> ids;
@@ -118,8 +106,7 @@ void write_run_balance(const RunBalance& b, const fs::path& csv, const fs::path&
     std::snprintf(number, sizeof number, ",%.9g", value);
     text += number;
   };
-  std::vector<double> t_us;
-  std::vector<double> largest[2], smallest[2];
+  std::vector<double> t_us, smallest[2];
   for (std::size_t f = 0; f < b.time_s.size(); ++f) {
     std::snprintf(number, sizeof number, "%.9g", b.time_s[f]);
     text += number;
@@ -130,11 +117,10 @@ void write_run_balance(const RunBalance& b, const fs::path& csv, const fs::path&
         add(c);
     text += "\n";
     t_us.push_back(b.time_s[f] * 1e6);
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < 2; ++k) { // the largest over the mean is the imbalance
       const std::vector<double>& cost = k == 0 ? b.cost_s[f] : b.region_cost_s[f];
       const double mean =
           std::accumulate(cost.begin(), cost.end(), 0.0) / static_cast<double>(parts);
-      largest[k].push_back(mean > 0 ? *std::max_element(cost.begin(), cost.end()) / mean : 1.0);
       smallest[k].push_back(mean > 0 ? *std::min_element(cost.begin(), cost.end()) / mean : 1.0);
     }
   }
@@ -144,11 +130,11 @@ void write_run_balance(const RunBalance& b, const fs::path& csv, const fs::path&
   chart.set_title("Cost per step of the ranks, the decomposition of t = 0 kept");
   chart.set_x_label("time (µs)");
   chart.set_y_label("rank's cost / mean");
-  chart.add_series("largest, entities kept on their rank", t_us, largest[0],
+  chart.add_series("largest, entities kept on their rank", t_us, b.imbalance,
                    {LineChart::palette(0)});
   chart.add_series("smallest, entities kept", t_us, smallest[0],
                    {LineChart::palette(0), 2.0, true});
-  chart.add_series("largest, entities owned by their region", t_us, largest[1],
+  chart.add_series("largest, entities owned by their region", t_us, b.region_imbalance,
                    {LineChart::palette(1)});
   chart.add_series("smallest, by region", t_us, smallest[1], {LineChart::palette(1), 2.0, true});
   chart.write_png(png);

@@ -7,7 +7,6 @@
 #include "solver/time/cost_estimate.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -20,7 +19,7 @@
 namespace sphfem {
 
 EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group,
-                         const std::vector<MirrorParticles::Plane>& planes) {
+                         const MirrorParticles& mirrors) {
   const Index np = m.particle_count(), nb = static_cast<Index>(m.background_nodes.size());
   std::vector<Vec3> x(m.x_p);
   std::vector<double> h(m.h_p);
@@ -31,25 +30,15 @@ EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group,
     h.push_back(m.h_background[k]);
     body.push_back(m.body_n[n]);
   }
-  // Mirror images, counted as neighbours only: across every non-empty subset of the planes of
-  // a point's group within reach of it (the corner of a quarter model gets three).
-  if (!planes.empty()) {
+  // Mirror images, counted as neighbours only, chosen as the solver chooses them.
+  if (!mirrors.empty()) {
     const double reach = 2.0 * *std::max_element(h.begin(), h.end());
     const std::size_t points = x.size();
     for (std::size_t i = 0; i < points; ++i) {
       const auto b = static_cast<std::size_t>(body[i]);
       if (b >= body_group.size())
         throw Error("decomposition: no group for body " + std::to_string(body[i]));
-      std::vector<const MirrorParticles::Plane*> near;
-      for (const auto& plane : planes)
-        if (plane.group == body_group[b] &&
-            std::abs((x[i] - plane.point).dot(plane.normal)) < reach)
-          near.push_back(&plane);
-      for (unsigned subset = 1; subset < (1u << near.size()); ++subset) {
-        Vec3 image = x[i];
-        for (std::size_t k = 0; k < near.size(); ++k)
-          if (subset & (1u << k))
-            image -= 2.0 * (image - near[k]->point).dot(near[k]->normal) * near[k]->normal;
+      for (const Vec3& image : mirrors.images_of(x[i], body_group[b], reach)) {
         x.push_back(image);
         h.push_back(h[i]);
       }

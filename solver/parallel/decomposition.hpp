@@ -31,7 +31,7 @@ struct EntityCosts {
 // symmetry planes (solver/sph/mirror_particles.hpp; a plane acts on the bodies of its group,
 // `body_group` giving each body's) within h_i + h_j, the kernel's reach.
 EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group = {},
-                         const std::vector<MirrorParticles::Plane>& planes = {});
+                         const MirrorParticles& mirrors = MirrorParticles());
 
 struct Decomposition {
   // Each part's region: the box RCB's cuts bound it by (infinite on the model's outer sides).

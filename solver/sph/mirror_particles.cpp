@@ -65,6 +65,36 @@ MirrorParticles::MirrorParticles(const Case& c) {
   }
 }
 
+std::vector<MirrorParticles::Image> MirrorParticles::maps_of(const Vec3& x, int group,
+                                                             double reach) const {
+  // The planes of the group within reach; an image for every non-empty subset of them.
+  std::vector<int> near;
+  for (int k = 0; k < static_cast<int>(planes_.size()); ++k)
+    if (planes_[k].group == group &&
+        std::abs((x - planes_[k].point).dot(planes_[k].normal)) < reach)
+      near.push_back(k);
+  std::vector<Image> maps;
+  for (unsigned subset = 1; subset < (1u << near.size()); ++subset) {
+    Image image{Mat3::Identity(), Vec3::Zero()};
+    for (std::size_t k = 0; k < near.size(); ++k)
+      if (subset & (1u << k)) {
+        const Plane& plane = planes_[near[k]];
+        const Mat3 R = Mat3::Identity() - 2.0 * plane.normal * plane.normal.transpose();
+        const Vec3 t = 2.0 * plane.point.dot(plane.normal) * plane.normal;
+        image = {R * image.R, R * image.t + t};
+      }
+    maps.push_back(image);
+  }
+  return maps;
+}
+
+std::vector<Vec3> MirrorParticles::images_of(const Vec3& x, int group, double reach) const {
+  std::vector<Vec3> images;
+  for (const Image& image : maps_of(x, group, reach))
+    images.push_back(image.R * x + image.t);
+  return images;
+}
+
 void MirrorParticles::select(Particles& p, double reach) {
   source_.clear();
   image_.clear();
@@ -73,21 +103,7 @@ void MirrorParticles::select(Particles& p, double reach) {
   for (Index i = 0; i < p.rows(); ++i) {
     if (i == p.size())
       p.mirrored_real = size();
-    // The planes of i's body within reach; an image for every non-empty subset of them.
-    std::vector<int> near;
-    for (int k = 0; k < static_cast<int>(planes_.size()); ++k)
-      if (planes_[k].group == p.group_p[i] &&
-          std::abs((p.x_p[i] - planes_[k].point).dot(planes_[k].normal)) < reach)
-        near.push_back(k);
-    for (unsigned subset = 1; subset < (1u << near.size()); ++subset) {
-      Image image{Mat3::Identity(), Vec3::Zero()};
-      for (std::size_t k = 0; k < near.size(); ++k)
-        if (subset & (1u << k)) {
-          const Plane& plane = planes_[near[k]];
-          const Mat3 R = Mat3::Identity() - 2.0 * plane.normal * plane.normal.transpose();
-          const Vec3 t = 2.0 * plane.point.dot(plane.normal) * plane.normal;
-          image = {R * image.R, R * image.t + t};
-        }
+    for (const Image& image : maps_of(p.x_p[i], p.group_p[i], reach)) {
       source_.push_back(i);
       image_.push_back(image);
     }

@@ -13,6 +13,7 @@
 #include "solver/io/state_archive.hpp"
 #include "solver/state/particles.hpp"
 
+#include <utility>
 #include <vector>
 
 namespace sphfem {
@@ -27,7 +28,11 @@ public:
     int group; // of the body it bounds: an attached FE body's background particles share it
     Vec3 point, normal;
   };
-  const std::vector<Plane>& planes() const { return planes_; }
+  explicit MirrorParticles(std::vector<Plane> planes) : planes_(std::move(planes)) {}
+
+  // The images of a point of `group` at x: one across every non-empty subset of the group's
+  // planes within `reach` of x (three at the corner of a quarter model) — the rule select uses.
+  std::vector<Vec3> images_of(const Vec3& x, int group, double reach) const;
 
   bool empty() const { return planes_.empty(); }
   Index size() const { return static_cast<Index>(source_.size()); }
@@ -50,6 +55,9 @@ private:
     Mat3 R; // x' = R x + t
     Vec3 t;
   };
+  // The image maps of a point of `group` at x (images_of).
+  std::vector<Image> maps_of(const Vec3& x, int group, double reach) const;
+
   std::vector<Plane> planes_;
   std::vector<Index> source_; // real particle of each image (current index)
   std::vector<Image> image_;

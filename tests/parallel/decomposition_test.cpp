@@ -80,14 +80,14 @@ TEST(EntityCosts, MirrorImagesMakeAPlaneParticleAnInteriorOne) {
   const MirrorParticles::Plane ymin{0, Vec3(0, -0.5 * mm, 0), Vec3(0, -1, 0)};
   const std::size_t face = 0 + 9 * (4 + 9 * 4), edge = 0 + 9 * (0 + 9 * 4);
   const EntityCosts plain = entity_costs(m);
-  const EntityCosts mirrored = entity_costs(m, group, {xmin});
+  const EntityCosts mirrored = entity_costs(m, group, MirrorParticles({xmin}));
   EXPECT_LT(plain.particle[face], mirrored.particle[face]);
   EXPECT_NEAR(mirrored.particle[face], StepCost::particle + 56 * StepCost::entry, 1e-15);
-  const EntityCosts corner = entity_costs(m, group, {xmin, ymin});
+  const EntityCosts corner = entity_costs(m, group, MirrorParticles({xmin, ymin}));
   EXPECT_NEAR(corner.particle[edge], StepCost::particle + 56 * StepCost::entry, 1e-15);
   // A plane of another group mirrors nothing.
   const MirrorParticles::Plane other{1, xmin.point, xmin.normal};
-  EXPECT_EQ(entity_costs(m, group, {other}).particle[face], plain.particle[face]);
+  EXPECT_EQ(entity_costs(m, group, MirrorParticles({other})).particle[face], plain.particle[face]);
 }
 
 TEST(EntityCosts, AnElementCarriesItsShareOfTheNodes) {
