@@ -11,12 +11,14 @@
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/model_h5.hpp"
 #include "solver/io/model_vtu.hpp"
+#include "solver/parallel/ranks.hpp"
 #include "solver/time/restart_check.hpp"
 #include "solver/time/run.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <tuple>
@@ -128,6 +130,34 @@ void print_outputs(const fs::path& out, const nlohmann::json& summary) {
             << " s\n";
 }
 
+// The model of a run: on one process as the pipeline asks (fresh, or OUT/model.h5 if current);
+// in a distributed run rank 0 makes it (and alone writes model.h5) while the other ranks wait,
+// then read that file. An error of rank 0's ends every rank (said by rank 0 only).
+Model model_of_run(const Case& c, const fs::path& out, bool remesh, bool quiet) {
+  const auto make = [&] {
+    return remesh ? mesh_and_write(c, out, quiet) : current_model(c, out, quiet);
+  };
+  if (!ranks::distributed())
+    return make();
+  Model model;
+  std::exception_ptr failure;
+  if (ranks::rank() == 0) {
+    try {
+      model = make();
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  }
+  if (ranks::max(failure ? 1 : 0) != 0) {
+    if (failure)
+      std::rethrow_exception(failure);
+    throw Error("rank 0 could not make the model");
+  }
+  if (ranks::rank() != 0)
+    model = read_model_h5(out / "model.h5");
+  return model;
+}
+
 } // namespace
 
 int run_command_line(int argc, char** argv) {
@@ -171,7 +201,14 @@ int run_command_line(int argc, char** argv) {
     return app.exit(e);
   }
 
+  // Errors are said once, by rank 0, in a distributed run (every rank meets the same ones
+  // before the step; one rank's own error in the step ends the job, run.cpp).
+  const bool speaker = ranks::rank() == 0;
   try {
+    SPHFEM_CHECK(!ranks::distributed() || run->parsed() || solve_cmd->parsed(), "started on ",
+                 ranks::size(),
+                 " MPI ranks: only `sphfem run` and `sphfem solve` share their work among ranks; "
+                 "run the others without mpirun");
     if (mesh->parsed()) {
       const Case c = read_case(mesh_o.case_file, mesh_o.overrides);
       mesh_and_write(c, mesh_o.out_dir, mesh_o.quiet);
@@ -202,21 +239,27 @@ int run_command_line(int argc, char** argv) {
     const fs::path out = o.out_dir;
     if (!o.restart.empty()) // refused before anything is meshed or written
       check_restart_case(o.restart, read_checkpoint_meta(o.restart), c);
+    check_distributable(c);
     const bool remesh = pipeline && o.restart.empty();
-    const Model model = remesh ? mesh_and_write(c, out, o.quiet) : current_model(c, out, o.quiet);
-    const auto summary = solve(c, model, {out, !o.quiet, o.restart});
+    const Model model = model_of_run(c, out, remesh, o.quiet || !speaker);
+    const auto summary = solve(c, model, {out, !o.quiet && speaker, o.restart});
+    if (!speaker)
+      return 0;
     print_outputs(out, summary);
     if (pipeline)
       write_run_report(out);
     return 0;
   } catch (const Interrupted& e) {
-    std::cerr << "sphfem: " << e.what() << "\n";
+    if (speaker)
+      std::cerr << "sphfem: " << e.what() << "\n";
     return 128 + e.signal();
   } catch (const Error& e) {
-    std::cerr << "sphfem: error: " << e.what() << "\n";
+    if (speaker)
+      std::cerr << "sphfem: error: " << e.what() << "\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "sphfem: internal error: " << e.what() << "\n";
+    if (speaker)
+      std::cerr << "sphfem: internal error: " << e.what() << "\n";
     return 3;
   }
 }

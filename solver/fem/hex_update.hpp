@@ -10,6 +10,7 @@
 #include "solver/material/material.hpp"
 #include "solver/state/hex_elements.hpp"
 
+#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -19,6 +20,9 @@ struct HexStepInput {
   const std::vector<Vec3>& x_new;
   const std::vector<Vec3>& v_half;
   double dt; // 0: forces and stable step only, no stress update
+  // The elements to advance, ascending (a distributed run's share, parallel/subdomain.hpp);
+  // empty: all.
+  std::span<const Index> only = {};
 };
 
 // Advances the elements and returns the smallest stable element step: the least of the

@@ -16,8 +16,10 @@ public:
   NodeGather() = default;
   NodeGather(const std::vector<Hex>& elements, Index node_count);
 
-  // out[i] = Σ over the elements around node i of their force on it.
-  void gather_forces(const HexElements& e, std::vector<Vec3>& out) const;
+  // out[i] = Σ over the elements around node i of their force on it, for the nodes in `only`
+  // (ascending; empty: all).
+  void gather_forces(const HexElements& e, std::vector<Vec3>& out,
+                     std::span<const Index> only = {}) const;
 
   // Elements around node i as (element, local node) pairs encoded element * 8 + local.
   std::span<const Index> around(Index node) const {

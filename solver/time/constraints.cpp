@@ -79,7 +79,8 @@ void Constraints::constrain(double t, std::vector<Vec3>& v) const {
 }
 
 ReactionTotals Constraints::apply(double t_half, double dt, const std::vector<double>& m,
-                                  const std::vector<Vec3>& f, std::vector<Vec3>& v_half) {
+                                  const std::vector<Vec3>& f, std::vector<Vec3>& v_half,
+                                  std::span<const unsigned char> counted) {
   for (std::size_t k = 0; k < nodes_.size(); ++k)
     v_free_[k] = v_half[nodes_[k]];
   constrain(t_half, v_half);
@@ -87,6 +88,8 @@ ReactionTotals Constraints::apply(double t_half, double dt, const std::vector<do
   // The reaction m Δv/Δt acts over Δt: its impulse is m Δv, its work m Δv · v̄.
   for (std::size_t k = 0; k < nodes_.size(); ++k) {
     const Index i = nodes_[k];
+    if (!counted.empty() && !counted[i])
+      continue;
     const Vec3 impulse = m[i] * (v_half[i] - v_free_[k]);
     totals.impulse += impulse;
     const Vec3 v_old = v_free_[k] - dt * f[i] / m[i];

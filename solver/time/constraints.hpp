@@ -12,6 +12,7 @@
 
 #include <array>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -27,9 +28,11 @@ public:
   Constraints(const Case& c, const Model& model);
 
   // Sets constrained components of v_half (at time t_half). v^{n−½} is recovered as
-  // v_half − Δt f/m from the unconstrained update with the nodal force f.
+  // v_half − Δt f/m from the unconstrained update with the nodal force f. The totals count the
+  // nodes `counted` marks (a distributed run's own nodes; empty: all).
   ReactionTotals apply(double t_half, double dt, const std::vector<double>& m,
-                       const std::vector<Vec3>& f, std::vector<Vec3>& v_half);
+                       const std::vector<Vec3>& f, std::vector<Vec3>& v_half,
+                       std::span<const unsigned char> counted = {});
   // The same constraints on initial velocities (no reactions counted).
   void apply_initial(std::vector<Vec3>& v) const;
 

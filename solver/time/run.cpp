@@ -7,6 +7,8 @@
 #include "solver/io/frame_writer.hpp"
 #include "solver/io/history_writer.hpp"
 #include "solver/io/run_log.hpp"
+#include "solver/parallel/decomposition.hpp"
+#include "solver/parallel/ranks.hpp"
 #include "solver/time/cost_estimate.hpp"
 #include "solver/time/energy_guard.hpp"
 #include "solver/time/probes.hpp"
@@ -20,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <iostream>
 #include <optional>
 
 #ifdef _OPENMP
@@ -114,12 +117,37 @@ void check_restart(const std::filesystem::path& file, const CheckpointMeta& meta
 
 } // namespace
 
+void check_distributable(const Case& c) {
+  if (!ranks::distributed())
+    return;
+  for (const auto& body : c.bodies)
+    SPHFEM_CHECK(body.method == Method::Fem, "body ", body.name,
+                 " is made of particles, and a run on ", ranks::size(),
+                 " MPI ranks steps finite elements only so far (hexahedra with loads and "
+                 "boundary conditions); run it on one rank (no mpirun, or -np 1) with --threads");
+  SPHFEM_CHECK(c.contacts.empty(), "this case has contact, and a run on ", ranks::size(),
+               " MPI ranks steps finite elements only so far (hexahedra with loads and boundary "
+               "conditions); run it on one rank (no mpirun, or -np 1) with --threads");
+}
+
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options) {
   const auto& out = options.out_dir;
-  std::filesystem::create_directories(out);
-  RunLog log(out / "run.log", options.echo);
+  // A distributed run: every rank steps its share; rank 0 alone writes (its arrays are made
+  // whole by Simulation::gather_state before each output) and speaks.
+  const bool writer = ranks::rank() == 0;
+  std::optional<Decomposition> decomposition;
+  if (ranks::distributed()) {
+    check_distributable(c);
+    decomposition = decompose(model, entity_costs(model), ranks::size());
+  }
+  if (writer)
+    std::filesystem::create_directories(out);
+  RunLog log(writer ? out / "run.log" : std::filesystem::path("/dev/null"), options.echo && writer);
 
-  Simulation sim(c, model);
+  Simulation sim(c, model, decomposition ? &*decomposition : nullptr);
+  if (decomposition)
+    log.line("distributed over " + std::to_string(ranks::size()) +
+             " MPI ranks (recursive coordinate bisection weighted by cost)");
   const auto probes = locate_probes(c, model);
   const Index nodes = sim.nodes().size(), elements = sim.elements().size();
   const Index particles = sim.particle_system().particles().size();
@@ -161,7 +189,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   }
 
   std::unique_ptr<FrameWriter> frames;
-  if (c.output.frames)
+  if (c.output.frames && writer)
     frames = std::make_unique<FrameWriter>(out, sim.nodes(), sim.elements(),
                                            sim.particle_system().particles());
   HistoryWriter history(out, history_columns(c, probes, sim.body_names()));
@@ -181,12 +209,15 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     a.value("run/next_history", next_history);
   };
   const auto checkpoint = [&] {
+    if (!writer)
+      return;
     write_checkpoint(out / "checkpoint.h5",
                      {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
   };
   if (restart) {
     read_checkpoint(options.restart, persist);
-    history.flush(); // only once the whole checkpoint has been read
+    if (writer)
+      history.flush(); // only once the whole checkpoint has been read
     log.line("restart from " + options.restart.string() + " at t = " + format("%.6e", sim.time()) +
              " s, step " + std::to_string(sim.steps()));
   } else {
@@ -194,8 +225,14 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
     history_row(sim, 0.0, probes, in_contact, sim.energies(), row);
     history.append(row);
-    history.flush();
+    if (writer)
+      history.flush();
   }
+  // The history's rows go to the files on rank 0 only.
+  const auto flush = [&] {
+    if (writer)
+      history.flush();
+  };
 
   const StopSignals signals;
   EnergyGuard guard(c.time.energy_limit, 0.05 * c.time.end);
@@ -208,9 +245,37 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     dt = std::min(sim.stable_dt(), c.time.end - sim.time());
     SPHFEM_CHECK(dt > 1e-6 * dt0, "time step collapsed to ", dt, " s at t = ", sim.time(), " s (",
                  dt0, " s at start): elements are being crushed; the run is unstable");
-    sim.step(dt);
+    if (decomposition) {
+      // An error on one rank (an inverted element, say) would leave the others waiting: it ends
+      // the job, with the rank that met it named.
+      try {
+        sim.step(dt);
+      } catch (const Error& e) {
+        std::cerr << "sphfem: error on MPI rank " << ranks::rank() << ": " << e.what() << "\n";
+        ranks::abort(1);
+      }
+    } else {
+      sim.step(dt);
+    }
     const bool last = sim.time() >= c.time.end - eps;
-    if (last || sim.time() >= next_history - eps) {
+    const bool history_due = last || sim.time() >= next_history - eps;
+    const bool frame_due = last || sim.time() >= next_frame - eps;
+    // Signals and the wall clock differ between ranks: rank 0's clock and any rank's signal
+    // decide for all.
+    int signal = signals.received();
+    const auto now = std::chrono::steady_clock::now();
+    const CheckpointSpec& every = c.output.checkpoint;
+    int wall_due = every.wall_s > 0 &&
+                   std::chrono::duration<double>(now - last_checkpoint).count() >= every.wall_s;
+    if (decomposition) {
+      signal = ranks::max(signal);
+      wall_due = every.wall_s > 0 && ranks::max(writer ? wall_due : 0);
+    }
+    const bool checkpoint_due =
+        !last && ((every.steps > 0 && sim.steps() % every.steps == 0) || wall_due);
+    if (history_due || frame_due || signal != 0 || checkpoint_due)
+      sim.gather_state();
+    if (history_due) {
       const Energies e = sim.energies();
       SPHFEM_CHECK(std::isfinite(e.total()), "energy is not finite at t = ", sim.time(),
                    " s (step ", sim.steps(), "): the run is unstable; last good frame kept");
@@ -220,23 +285,23 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
         guard.check(sim, e);
       } catch (const Error&) {
         progress.finish();
-        history.flush(); // the rows up to the blow-up: they show it growing
+        flush(); // the rows up to the blow-up: they show it growing
         throw;
       }
       while (next_history <= sim.time() + eps)
         next_history += c.time.history_interval > 0 ? c.time.history_interval : dt;
     }
-    if (last || sim.time() >= next_frame - eps) {
+    if (frame_due) {
       if (frames)
         frames->write(sim.time(), sim.nodes(), sim.elements(), sim.particle_system().particles());
-      history.flush();
+      flush();
       while (next_frame <= sim.time() + eps)
         next_frame += c.time.output_interval;
     }
     progress.update(sim.steps(), sim.time(), dt);
-    if (const int signal = signals.received()) {
+    if (signal != 0) {
       progress.finish();
-      history.flush();
+      flush();
       checkpoint();
       const std::string file = (out / "checkpoint.h5").string();
       throw Interrupted(detail::concat("interrupted by ", signal == SIGINT ? "SIGINT" : "SIGTERM",
@@ -247,11 +312,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
                                        " (and the same --set options)"),
                         signal);
     }
-    const auto now = std::chrono::steady_clock::now();
-    const CheckpointSpec& every = c.output.checkpoint;
-    if (!last && ((every.steps > 0 && sim.steps() % every.steps == 0) ||
-                  (every.wall_s > 0 &&
-                   std::chrono::duration<double>(now - last_checkpoint).count() >= every.wall_s))) {
+    if (checkpoint_due) {
       checkpoint();
       last_checkpoint = now;
     }
@@ -259,7 +320,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   progress.finish();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  history.flush();
+  flush();
   checkpoint();
 
   const Energies e = sim.energies();
@@ -325,7 +386,10 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   }
   summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
-  write_text_atomically(out / "summary.json", summary.dump(2) + "\n");
+  if (decomposition)
+    summary["ranks"] = ranks::size();
+  if (writer)
+    write_text_atomically(out / "summary.json", summary.dump(2) + "\n");
 
   log.line("done: " + std::to_string(sim.steps()) + " steps in " + format("%.2f", wall) + " s (" +
            format("%.3g", summary["entity_steps_per_s"].get<double>()) +

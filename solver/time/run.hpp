@@ -6,6 +6,10 @@
 // Interrupted. With a restart file it continues that checkpoint's run: refused if the case's
 // physics keys or the model differ from the checkpoint's; the continued run writes what the
 // uninterrupted one would, bit for bit (but wall times; tests/e2e/restart_test.cpp).
+// Started on several MPI ranks (issue 28) every rank steps its share of the elements
+// (solver/parallel/subdomain.hpp) and rank 0 writes the same files a single process would: the
+// checkpoint holds the whole state, so a run continues on any number of ranks
+// (tests/e2e/mpi_launch_test.cpp).
 #pragma once
 
 #include "solver/core/error.hpp"
@@ -32,6 +36,10 @@ public:
 private:
   int signal_;
 };
+
+// Throws sphfem::Error if this process is one of several MPI ranks and the case has what a
+// distributed run does not step yet (particles, contact): called before anything is written.
+void check_distributable(const Case& c);
 
 // Runs the case and returns the summary that was written to OUT/summary.json.
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options);

@@ -4,9 +4,12 @@
 #include "solver/core/parallel.hpp"
 #include "solver/fem/hex8.hpp"
 #include "solver/fem/hex_update.hpp"
+#include "solver/parallel/ranks.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace sphfem {
 
@@ -24,7 +27,7 @@ struct WorkAndImpulse {
 
 } // namespace
 
-Simulation::Simulation(const Case& c, const Model& model)
+Simulation::Simulation(const Case& c, const Model& model, const Decomposition* decomposition)
     : cfl_(c.time.cfl), fem_(c.fem), body_names_(model.body_names) {
   SPHFEM_CHECK(model.body_names.size() == c.bodies.size(),
                "model.h5 does not match the case (bodies differ): re-mesh");
@@ -106,6 +109,23 @@ Simulation::Simulation(const Case& c, const Model& model)
   momentum_scale_ =
       deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
+  if (decomposition != nullptr && decomposition->parts > 1)
+    subdomain_ = std::make_unique<Subdomain>(make_subdomain(*decomposition, model, ranks::rank()));
+}
+
+template <class F> void Simulation::for_own_nodes(F f) {
+  const Index count = subdomain_ ? static_cast<Index>(subdomain_->nodes.size()) : nodes_.size();
+  const Index* own = subdomain_ ? subdomain_->nodes.data() : nullptr;
+#pragma omp parallel for schedule(static) if (count > parallel_min_items)
+  for (Index j = 0; j < count; ++j)
+    f(own != nullptr ? own[j] : j);
+}
+
+void Simulation::gather_state() {
+  if (!subdomain_)
+    return;
+  subdomain_->all_nodes.refresh_each([this](auto visit) { nodes_.for_each_field(visit); });
+  subdomain_->all_elements.refresh_each([this](auto visit) { elements_.for_each_field(visit); });
 }
 
 void Simulation::step(double dt) {
@@ -126,13 +146,9 @@ void Simulation::step(double dt) {
   // Total nodal force at tⁿ: element forces plus loads (kept in f_int_n for this phase).
   if (!loads_.empty()) {
     loads_.apply(time_, x, nodes_.f_ext_n);
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-    for (Index i = 0; i < n; ++i)
-      f[i] += nodes_.f_ext_n[i];
+    for_own_nodes([&](Index i) { f[i] += nodes_.f_ext_n[i]; });
   }
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index i = 0; i < n; ++i)
-    v[i] += (dt_v / m[i]) * f[i];
+  for_own_nodes([&](Index i) { v[i] += (dt_v / m[i]) * f[i]; });
   particles_.kick(dt_v);
   friction_work_ += dt_v * contact_.friction_power(); // friction's forces act over this kick
   // The symmetry planes' push on the particles is an external reaction (the mirrored half).
@@ -149,30 +165,53 @@ void Simulation::step(double dt) {
     impulse_scale_ += on_particles.impulse.norm();
   }
 
-  if (!loads_.empty()) {
-    const auto loaded = deterministic_sum(n, WorkAndImpulse{}, [&](Index i) {
+  // The loads' and the constraints' work and impulse: over the nodes this rank owns, then
+  // summed over the ranks in rank order.
+  const std::span<const unsigned char> own =
+      subdomain_ ? std::span<const unsigned char>(subdomain_->owns_n)
+                 : std::span<const unsigned char>();
+  WorkAndImpulse loaded;
+  if (!loads_.empty())
+    loaded = deterministic_sum(n, WorkAndImpulse{}, [&](Index i) {
+      if (!own.empty() && !own[i])
+        return WorkAndImpulse{};
       const Vec3& fe = nodes_.f_ext_n[i];
       const Vec3 v_old = v[i] - (dt_v / m[i]) * f[i];
       return WorkAndImpulse{dt_v * fe.dot(0.5 * (v_old + v[i])), dt_v * fe};
     });
+  ReactionTotals reactions = constraints_.apply(time_ + 0.5 * dt, dt_v, m, f, v, own);
+  if (subdomain_) {
+    const std::array<double, 8> local{
+        loaded.work,    loaded.impulse.x(),    loaded.impulse.y(),    loaded.impulse.z(),
+        reactions.work, reactions.impulse.x(), reactions.impulse.y(), reactions.impulse.z()};
+    const std::vector<double> total = ranks::sum_in_rank_order(local);
+    loaded = {total[0], Vec3(total[1], total[2], total[3])};
+    reactions = {total[4], Vec3(total[5], total[6], total[7])};
+  }
+  if (!loads_.empty()) {
     external_work_ += loaded.work;
     external_impulse_ += loaded.impulse;
     impulse_scale_ += loaded.impulse.norm();
   }
-  const ReactionTotals reactions = constraints_.apply(time_ + 0.5 * dt, dt_v, m, f, v);
   external_work_ += reactions.work;
   external_impulse_ += reactions.impulse;
   impulse_scale_ += reactions.impulse.norm();
   ties_.follow(particles_.particles(), nodes_, index_of);
 
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index i = 0; i < n; ++i)
-    x[i] += dt * v[i];
+  for_own_nodes([&](Index i) { x[i] += dt * v[i]; });
+  if (subdomain_)
+    subdomain_->halo.refresh(x, v);
 
   particles_.drift(dt);
 
-  dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
-  gather_.gather_forces(elements_, f);
+  if (subdomain_) {
+    dt_elements_ = ranks::min(
+        update_hex_elements({x, v, dt, subdomain_->elements}, materials_, fem_, elements_));
+    gather_.gather_forces(elements_, f, subdomain_->nodes);
+  } else {
+    dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
+    gather_.gather_forces(elements_, f);
+  }
   background_.fill(nodes_, elements_, gather_, particles_.particles());
   particles_.update(dt);
   contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,

@@ -14,6 +14,7 @@
 #include "solver/io/case.hpp"
 #include "solver/io/state_archive.hpp"
 #include "solver/material/material.hpp"
+#include "solver/parallel/subdomain.hpp"
 #include "solver/sph/particle_system.hpp"
 #include "solver/state/hex_elements.hpp"
 #include "solver/state/model.hpp"
@@ -24,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,7 +55,9 @@ struct BodyTotals {
 
 class Simulation {
 public:
-  Simulation(const Case& c, const Model& model);
+  // With a decomposition of several parts (a distributed run, issue 28) this rank steps its
+  // share (parallel/subdomain.hpp): call gather_state() before reading the whole state.
+  Simulation(const Case& c, const Model& model, const Decomposition* decomposition = nullptr);
 
   // Largest step the stability limits allow now: min(time.cfl × Δt_FE ⊕ Δt_c, 0.3 Δt_c,
   // sph.cfl × min over particles of h/(c + |v|)), Δt_FE = min over elements of L_e/c and Δt_c =
@@ -73,6 +77,10 @@ public:
   // The contact springs' step as a fraction of their critical step 2/ω.
   static constexpr double contact_step_factor = 0.3;
   void step(double dt);
+  // A distributed run: every rank's share into this rank's arrays, so that energies, bodies,
+  // probes, frames and checkpoints see the whole state, as on one process. Collective; nothing
+  // to do on one process.
+  void gather_state();
 
   double time() const { return time_; }
   long long steps() const { return steps_; }
@@ -101,6 +109,9 @@ public:
   void persist(StateArchive& a);
 
 private:
+  // f(i) for each node this rank steps (all on one process), in parallel.
+  template <class F> void for_own_nodes(F f);
+
   double cfl_;
   FemSpec fem_;
   std::vector<Material> materials_;
@@ -127,6 +138,7 @@ private:
   double momentum_scale_ = 0;
   Vec3 external_impulse_ = Vec3::Zero();
   double impulse_scale_ = 0;
+  std::unique_ptr<Subdomain> subdomain_; // a distributed run's share; null on one process
 };
 
 } // namespace sphfem

@@ -1,10 +1,13 @@
 // The domain decomposition (solver/parallel/decomposition.hpp, halo.hpp) against counts worked
 // out by hand on lattices and blocks: a particle's neighbour-list entries in a cubic lattice,
 // the ghost layers a plane cut leaves on each side, the nodes a cut shares, and a cost-weighted
-// cut that gives the part with the dearer particles fewer entities.
+// cut that gives the part with the dearer particles fewer entities; and a rank's share of the
+// elements (solver/parallel/subdomain.hpp): the nodes it owns, the elements it computes, the
+// halo it reads.
 #include "solver/core/error.hpp"
 #include "solver/parallel/decomposition.hpp"
 #include "solver/parallel/halo.hpp"
+#include "solver/parallel/subdomain.hpp"
 #include "solver/time/cost_estimate.hpp"
 
 #include <gtest/gtest.h>
@@ -235,6 +238,38 @@ TEST(Decomposition, KilledAndErodedEntitiesLeaveTheirPartsCost) {
   EXPECT_EQ(later[0], 0.0);
   EXPECT_NEAR(later[1], start[1] - c.element[0], 1e-15);
   EXPECT_THROW(part_costs(d, c, std::vector<int>(3, 0), all_p, live_e), Error);
+}
+
+TEST(Subdomain, ARankComputesEveryElementAroundItsNodesAndReadsTheirNodes) {
+  // A 4 × 2 × 2 block of equal elements cut in two at x = 2 mm: the 9 nodes on the cut belong
+  // to the lower part. So it owns 27 nodes and computes its 8 elements and the other part's 4
+  // at the cut (12), reading the 9 nodes at x = 3 mm; the upper part owns 18, computes its own
+  // 8 and reads the 9 on the cut.
+  REQUIRE_PARTITIONER();
+  Model m;
+  add_block(m, 4, 2, 2);
+  const Decomposition d = decompose(m, entity_costs(m), 2);
+  const int lower = d.part_e[0]; // the element at the origin
+  std::vector<int> owners(m.x_n.size(), 0);
+  for (int part : {0, 1}) {
+    const Subdomain s = make_subdomain(d, m, part, false);
+    const bool is_lower = part == lower;
+    EXPECT_EQ(s.nodes.size(), is_lower ? 27u : 18u);
+    EXPECT_EQ(s.elements.size(), is_lower ? 12u : 8u);
+    EXPECT_EQ(s.halo_nodes.size(), 9u);
+    for (Index i : s.halo_nodes)
+      EXPECT_NEAR(m.x_n[i].x(), is_lower ? 3 * mm : 2 * mm, 1e-12);
+    for (Index i : s.nodes)
+      ++owners[i];
+    // Every element holding an owned node is computed here.
+    for (Index k = 0; k < static_cast<Index>(m.hex_e.size()); ++k) {
+      const bool holds = std::ranges::any_of(m.hex_e[k], [&](Index i) { return s.owns_n[i]; });
+      if (holds || d.part_e[k] == part) {
+        EXPECT_TRUE(std::ranges::binary_search(s.elements, k)) << k;
+      }
+    }
+  }
+  EXPECT_TRUE(std::ranges::all_of(owners, [](int n) { return n == 1; })); // each node once
 }
 
 TEST(Decomposition, BadRequestsAreRefused) {

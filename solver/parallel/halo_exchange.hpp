@@ -1,0 +1,82 @@
+// The exchange of a distributed run (issue 28, point 3): every rank holds the model's arrays in
+// the model's numbering, steps the entities it owns and reads some it does not own (its halo:
+// the nodes of the elements it computes). After a phase, each owner sends the values of those
+// entities to the ranks that read them, which write them into the same slots. The lists are
+// agreed once (each rank says what it reads, the owners learn it), so a refresh sends only the
+// halo's values: per pair of ranks one message holding every field asked for.
+//
+// Fields are std::vectors of fixed-size values (numbers, Vec3, Mat3, arrays of them, plain
+// structs) copied as bytes. Without MPI, or on one rank, there is nothing to exchange.
+#pragma once
+
+#include "solver/core/types.hpp"
+
+#include <cstddef>
+#include <cstring>
+#include <span>
+#include <vector>
+
+namespace sphfem {
+
+class HaloExchange {
+public:
+  HaloExchange() = default;
+  // owner[i]: the rank owning entity i (the same on every rank); reads: the entities this rank
+  // reads, in any order (those it owns are skipped). Collective: every rank calls it together.
+  HaloExchange(std::span<const int> owner, std::span<const Index> reads);
+
+  // Owners' values into the read slots of every rank, for each field `for_each` visits:
+  // for_each(visit) calls visit(name, field) per field (as Nodes::for_each_field does).
+  // Collective.
+  template <class ForEach> void refresh_each(ForEach for_each);
+  template <class... Field> void refresh(Field&... fields) {
+    refresh_each([&](auto visit) { (visit("", fields), ...); });
+  }
+
+  // Entities this rank sends and receives per refresh (all ranks together).
+  long long sent() const { return count(send_); }
+  long long received() const { return count(receive_); }
+  // Bytes sent by this rank over all refreshes so far.
+  long long bytes_sent() const { return bytes_sent_; }
+
+private:
+  static long long count(const std::vector<std::vector<Index>>& lists);
+  // Sends send_buffer_[r] to each rank r and fills receive_buffer_[r] from it.
+  void transfer();
+
+  std::vector<std::vector<Index>> send_, receive_; // per rank: the entities, ascending
+  std::vector<std::vector<std::byte>> send_buffer_, receive_buffer_;
+  long long bytes_sent_ = 0;
+};
+
+template <class ForEach> void HaloExchange::refresh_each(ForEach for_each) {
+  if (send_.empty())
+    return;
+  std::size_t row = 0; // bytes per entity over all fields
+  for_each([&row](const char*, auto& field) { row += sizeof(field[0]); });
+  for (std::size_t r = 0; r < send_.size(); ++r) {
+    send_buffer_[r].resize(send_[r].size() * row);
+    receive_buffer_[r].resize(receive_[r].size() * row);
+    std::byte* out = send_buffer_[r].data();
+    for_each([&](const char*, auto& field) {
+      constexpr std::size_t size = sizeof(field[0]);
+      for (Index i : send_[r]) {
+        std::memcpy(out, &field[i], size);
+        out += size;
+      }
+    });
+  }
+  transfer();
+  for (std::size_t r = 0; r < receive_.size(); ++r) {
+    const std::byte* in = receive_buffer_[r].data();
+    for_each([&](const char*, auto& field) {
+      constexpr std::size_t size = sizeof(field[0]);
+      for (Index i : receive_[r]) {
+        std::memcpy(static_cast<void*>(&field[i]), in, size); // fixed-size values
+        in += size;
+      }
+    });
+  }
+}
+
+} // namespace sphfem

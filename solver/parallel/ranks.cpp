@@ -1,0 +1,102 @@
+#include "solver/parallel/ranks.hpp"
+
+#include <cstdlib>
+
+#ifdef SPHFEM_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace sphfem::ranks {
+
+#ifdef SPHFEM_HAVE_MPI
+
+namespace {
+
+bool started() {
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  return initialised && !finalised;
+}
+
+} // namespace
+
+int rank() {
+  int r = 0;
+  if (started())
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+
+int size() {
+  int n = 1;
+  if (started())
+    MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+double min(double value) {
+  if (size() > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  return value;
+}
+
+int max(int value) {
+  if (size() > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return value;
+}
+
+std::vector<double> sum_in_rank_order(std::span<const double> values) {
+  const int n = size();
+  std::vector<double> out(values.begin(), values.end());
+  if (n == 1 || values.empty())
+    return out;
+  const int count = static_cast<int>(values.size());
+  std::vector<double> all(static_cast<std::size_t>(count) * n);
+  MPI_Allgather(values.data(), count, MPI_DOUBLE, all.data(), count, MPI_DOUBLE, MPI_COMM_WORLD);
+  for (int k = 0; k < count; ++k) {
+    double sum = all[k];
+    for (int r = 1; r < n; ++r)
+      sum += all[static_cast<std::size_t>(r) * count + k];
+    out[k] = sum;
+  }
+  return out;
+}
+
+void barrier() {
+  if (size() > 1)
+    MPI_Barrier(MPI_COMM_WORLD);
+}
+
+void abort(int code) {
+  if (started())
+    MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+
+#else
+
+int rank() {
+  return 0;
+}
+int size() {
+  return 1;
+}
+double min(double value) {
+  return value;
+}
+int max(int value) {
+  return value;
+}
+std::vector<double> sum_in_rank_order(std::span<const double> values) {
+  return {values.begin(), values.end()};
+}
+void barrier() {}
+void abort(int code) {
+  std::exit(code);
+}
+
+#endif
+
+} // namespace sphfem::ranks

@@ -1,0 +1,41 @@
+#include "solver/parallel/subdomain.hpp"
+
+#include <numeric>
+
+namespace sphfem {
+
+Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool collective) {
+  Subdomain s;
+  const Index n = m.node_count(), ne = m.element_count();
+  s.owns_n.assign(n, 0);
+  for (Index i = 0; i < n; ++i)
+    if (d.part_n[i] == rank) {
+      s.owns_n[i] = 1;
+      s.nodes.push_back(i);
+    }
+  std::vector<unsigned char> read(n, 0);
+  for (Index k = 0; k < ne; ++k) {
+    bool computed = d.part_e[k] == rank;
+    for (Index i : m.hex_e[k])
+      computed = computed || s.owns_n[i];
+    if (!computed)
+      continue;
+    s.elements.push_back(k);
+    for (Index i : m.hex_e[k])
+      read[i] = 1;
+  }
+  for (Index i = 0; i < n; ++i)
+    if (read[i] && !s.owns_n[i])
+      s.halo_nodes.push_back(i);
+  if (collective) {
+    s.halo = HaloExchange(d.part_n, s.halo_nodes);
+    std::vector<Index> every_node(n), every_element(ne);
+    std::iota(every_node.begin(), every_node.end(), Index{0});
+    std::iota(every_element.begin(), every_element.end(), Index{0});
+    s.all_nodes = HaloExchange(d.part_n, every_node);
+    s.all_elements = HaloExchange(d.part_e, every_element);
+  }
+  return s;
+}
+
+} // namespace sphfem

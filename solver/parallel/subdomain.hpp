@@ -1,0 +1,34 @@
+// This rank's share of a distributed run's finite elements (issue 28, point 3): the nodes it
+// owns (the decomposition's), the elements it computes — its own and every element holding one
+// of its nodes, so that each owned node's force is summed here from all its elements, in the
+// same order as on one process — and the exchanges that keep the rest current:
+// - `halo`: after the nodes move, the positions and velocities of the computed elements' nodes
+//   that other ranks own (one message per neighbouring rank and step);
+// - `all_nodes`, `all_elements`: every slot this rank does not own, before output, so that
+//   energies, probes, frames and checkpoints are computed from the whole state as on one process.
+// Every rank keeps the model's arrays in the model's numbering (the state is replicated; each
+// rank writes only its share of it). Verified by tests/parallel/subdomain_test.cpp and the
+// mpirun runs of tests/e2e/mpi_launch_test.cpp.
+#pragma once
+
+#include "solver/parallel/decomposition.hpp"
+#include "solver/parallel/halo_exchange.hpp"
+#include "solver/state/model.hpp"
+
+#include <vector>
+
+namespace sphfem {
+
+struct Subdomain {
+  std::vector<Index> nodes;          // owned, ascending
+  std::vector<unsigned char> owns_n; // per node: 1 when owned here
+  std::vector<Index> elements;       // computed here, ascending
+  std::vector<Index> halo_nodes;     // nodes of `elements` owned elsewhere, ascending
+  HaloExchange halo, all_nodes, all_elements;
+};
+
+// The share of `rank` in `d`. Collective (the exchanges are agreed among all ranks) when the
+// run has several ranks; `collective = false` builds the lists alone (tests, census).
+Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool collective = true);
+
+} // namespace sphfem
