@@ -1,5 +1,6 @@
 #include "solver/coupling/contact.hpp"
 
+#include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
 
 #include <cmath>
@@ -16,18 +17,27 @@ Contact::Contact(const Case& c, const Model& model, const Particles& p,
 }
 
 void Contact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
-                    const HexElements& elements, double dt) {
+                    const HexElements& elements, double dt, const std::vector<Index>* only) {
   if (empty())
     return;
+  SPHFEM_CHECK(only == nullptr || surface_.empty(),
+               "the surface contact is not shared among ranks yet (internal error)");
   const Index rows = p.rows();
 #pragma omp parallel for schedule(static) if (rows > parallel_min_items)
   for (Index i = 0; i < rows; ++i)
     p.fc_p[i].setZero();
-  energy_ = kernel_.empty() ? 0.0 : kernel_.apply(p, list);
+  if (!kernel_.empty())
+    kernel_.apply(p, list, only);
   const ContactTotals surface = surface_.apply(p, list, rebuilds, elements, dt);
-  energy_ += surface.energy;
+  energy_ = surface.energy;
   friction_power_ = surface.friction_power;
   omega2_ = surface.omega2;
+}
+
+double Contact::energy(const Particles& p) const {
+  const double kernel =
+      kernel_.empty() ? 0.0 : deterministic_sum(p.rows(), 0.0, [&](Index i) { return p.phi_p[i]; });
+  return kernel + energy_;
 }
 
 Vec3 Contact::force_on(const Particles& p, int body) const {

@@ -26,11 +26,12 @@ public:
   bool empty() const { return kernel_.empty() && surface_.empty(); }
   // Sets fc_p to the contact force on every row and adds it to f_p. rebuilds: the neighbour
   // search's build count; dt: the step just taken (0 at the start).
+  // only: the rows to evaluate (a distributed run's own rows; kernel contact only), null: all.
   void apply(Particles& p, const NeighbourList& list, long long rebuilds,
-             const HexElements& elements, double dt);
+             const HexElements& elements, double dt, const std::vector<Index>* only = nullptr);
 
-  // Penalty energy stored at the last evaluation, J.
-  double energy() const { return energy_; }
+  // Penalty energy stored at the last evaluation, J (the kernel contact's from p's rows).
+  double energy(const Particles& p) const;
   // Power dissipated by friction at the last evaluation, W (its forces act over the next kick).
   double friction_power() const { return friction_power_; }
   // Critical step 2/ω of the stiffest surface contact spring near contact, s (∞ if none; the
@@ -47,7 +48,7 @@ private:
   KernelContact kernel_;
   SurfaceContact surface_;
   std::vector<char> in_contact_; // per body: named in some pair
-  double energy_ = 0;
+  double energy_ = 0;            // the surface contact's
   double friction_power_ = 0;
   double omega2_ = 0;
 };

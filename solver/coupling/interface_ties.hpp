@@ -28,6 +28,9 @@ public:
 
   bool empty() const { return particle_ids_.empty(); }
   Index size() const { return static_cast<Index>(particle_ids_.size()); }
+  // Tie k: the particle (model.h5 order) and the node it binds.
+  Index particle_id(Index k) const { return particle_ids_[k]; }
+  Index node(Index k) const { return nodes_[k]; }
 
   // After the kicks: particle and node take their momentum-weighted mean velocity.
   // index_of maps a particle id (model.h5 order) to its current index.

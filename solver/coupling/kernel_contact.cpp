@@ -22,28 +22,33 @@ KernelContact::KernelContact(const Case& c) : bodies_(static_cast<int>(c.bodies.
       in_contact_[a] |= pair_of_[a * bodies_ + b] >= 0 ? 1 : 0;
 }
 
-double KernelContact::apply(Particles& p, const NeighbourList& list) const {
+void KernelContact::apply(Particles& p, const NeighbourList& list,
+                          const std::vector<Index>* only) const {
   // Each row (real and background particles) gathers its own forces (race-free); each pair's
   // energy is counted once per row, so halved. A pair with a mirror image (no row of its own)
   // then counts half: its mirror pair, the other half, lies outside the modelled part.
-  const double energy = deterministic_sum(p.rows(), 0.0, [&](Index i) {
+  const Index count = only != nullptr ? static_cast<Index>(only->size()) : p.rows();
+#pragma omp parallel for schedule(static, interleave_chunk) if (count > parallel_min_items / 16)
+  for (Index k = 0; k < count; ++k) {
+    const Index i = only != nullptr ? (*only)[k] : k;
+    p.phi_p[i] = 0;
     if (!in_contact_[p.body_p[i]])
-      return 0.0;
+      continue;
     const int row = p.body_p[i] * bodies_;
     const Vec3 xi = p.x_p[i];
     const double V_i = p.m_p[i] / p.rho_p[i];
     Vec3 f = Vec3::Zero();
     double phi = 0;
     for (Index j : list.of(i)) {
-      const int k = pair_of_[row + p.body_p[j]];
-      if (k < 0)
+      const int pair_k = pair_of_[row + p.body_p[j]];
+      if (pair_k < 0)
         continue;
       const Vec3 x_ij = xi - p.x_p[j];
       const double r = x_ij.norm();
       const double h_ij = 0.5 * (p.h_p[i] + p.h_p[j]);
       if (r >= 2.0 * h_ij || r == 0.0)
         continue;
-      const Pair& pair = pairs_[k];
+      const Pair& pair = pairs_[pair_k];
       const double V_j = p.m_p[j] / p.rho_p[j];
       const double V_ij = 2.0 * V_i * V_j / (V_i + V_j);
       const double W0 = kernel_W(0.5 * (p.dp_p[i] + p.dp_p[j]), h_ij);
@@ -58,9 +63,8 @@ double KernelContact::apply(Particles& p, const NeighbourList& list) const {
     }
     p.fc_p[i] += f;
     p.f_p[i] += f;
-    return 0.5 * phi;
-  });
-  return energy;
+    p.phi_p[i] = 0.5 * phi;
+  }
 }
 
 } // namespace sphfem

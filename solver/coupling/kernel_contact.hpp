@@ -25,9 +25,11 @@ public:
   explicit KernelContact(const Case& c);
 
   bool empty() const { return pairs_.empty(); }
-  // Adds the contact forces to f_p and fc_p of every entity, real or background; returns the
-  // contact energy Σ Φ_ij, J.
-  double apply(Particles& p, const NeighbourList& list) const;
+  // Adds the contact forces to f_p and fc_p of every row, real or background, or of the rows
+  // `only` lists (ascending; a distributed run's own rows), and sets their phi_p: half the
+  // energy Φ_ij of each of their pairs, so that the contact energy is Σ phi_p.
+  void apply(Particles& p, const NeighbourList& list,
+             const std::vector<Index>* only = nullptr) const;
 
 private:
   struct Pair {

@@ -10,7 +10,6 @@
 #include "solver/material/material.hpp"
 #include "solver/state/hex_elements.hpp"
 
-#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -21,8 +20,8 @@ struct HexStepInput {
   const std::vector<Vec3>& v_half;
   double dt; // 0: forces and stable step only, no stress update
   // The elements to advance, ascending (a distributed run's share, parallel/subdomain.hpp);
-  // empty: all.
-  std::span<const Index> only = {};
+  // null: all.
+  const std::vector<Index>* only = nullptr;
 };
 
 // Advances the elements and returns the smallest stable element step: the least of the

@@ -17,9 +17,9 @@ public:
   NodeGather(const std::vector<Hex>& elements, Index node_count);
 
   // out[i] = Σ over the elements around node i of their force on it, for the nodes in `only`
-  // (ascending; empty: all).
+  // (null: all).
   void gather_forces(const HexElements& e, std::vector<Vec3>& out,
-                     std::span<const Index> only = {}) const;
+                     const std::vector<Index>* only = nullptr) const;
 
   // Elements around node i as (element, local node) pairs encoded element * 8 + local.
   std::span<const Index> around(Index node) const {

@@ -23,6 +23,8 @@ int max(int value);
 // Element-wise sums over the ranks, added in rank order (0, 1, …): the same on every rank and on
 // every repeat.
 std::vector<double> sum_in_rank_order(std::span<const double> values);
+// Every rank's `values` (each the same length), concatenated in rank order.
+std::vector<double> gather_all(std::span<const double> values);
 // Waits for every rank.
 void barrier();
 // Ends every rank of the job with `code` (after an error one rank met alone mid-run: the others

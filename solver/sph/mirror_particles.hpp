@@ -36,6 +36,8 @@ public:
 
   bool empty() const { return planes_.empty(); }
   Index size() const { return static_cast<Index>(source_.size()); }
+  // The row image k is made from (current index).
+  Index source(Index k) const { return source_[k]; }
 
   // Chooses the images of the real and background particles lying within `reach` of their
   // group's planes (images of real particles first; sets p.mirrored_real).

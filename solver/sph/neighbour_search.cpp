@@ -463,15 +463,36 @@ void NeighbourSearch::sort_by_transposing() {
 }
 
 bool NeighbourSearch::needs_update(std::span<const Vec3> x, std::span<const double> h) const {
-  if (!built_ || x.size() != x_build_.size() || h.size() != x.size())
-    return true;
+  return !built_for(x, h) || exceeds_skin(largest_excursions(x, h));
+}
+
+bool NeighbourSearch::built_for(std::span<const Vec3> x, std::span<const double> h) const {
+  return built_ && x.size() == x_build_.size() && h.size() == x.size();
+}
+
+std::array<double, 2>
+NeighbourSearch::largest_excursions(std::span<const Vec3> x, std::span<const double> h,
+                                    std::span<const unsigned char> counted) const {
   const Index n = static_cast<Index>(x.size());
   const TopTwo top = deterministic_sum(n, TopTwo{}, [&](Index i) {
+    if (!counted.empty() && !counted[i])
+      return TopTwo{};
     return TopTwo{excursion(x[i], x_build_[i], h[i], h_build_[i]), -infinity};
   });
-  if (top.first == infinity)
+  return {top.first, top.second};
+}
+
+std::array<double, 2> NeighbourSearch::merge_excursions(std::span<const double> pairs) {
+  TopTwo top;
+  for (std::size_t k = 0; k + 1 < pairs.size(); k += 2)
+    top += TopTwo{pairs[k], pairs[k + 1]};
+  return {top.first, top.second};
+}
+
+bool NeighbourSearch::exceeds_skin(const std::array<double, 2>& top) const {
+  if (top[0] == infinity)
     return true;
-  return top.first + top.second > skin_; // −∞ for a single particle: no pair to miss
+  return top[0] + top[1] > skin_; // −∞ for a single particle: no pair to miss
 }
 
 std::vector<Index> NeighbourSearch::cell_order(std::span<const Vec3> x, double cell_size) {

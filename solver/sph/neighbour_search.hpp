@@ -77,6 +77,15 @@ public:
   // True when the list may be missing a pair (see the rebuild condition above), when the
   // particle count changed, before the first build, and for non-finite x or h.
   bool needs_update(std::span<const Vec3> x, std::span<const double> h) const;
+  // The same in parts, for a distributed run whose ranks each know some of the points: whether
+  // the list was built for this many points; the two largest e_i over the points `counted`
+  // marks (all when empty); pairs of them (one per rank) merged; whether a pair asks for a
+  // rebuild (also when infinite: a non-finite state).
+  bool built_for(std::span<const Vec3> x, std::span<const double> h) const;
+  std::array<double, 2> largest_excursions(std::span<const Vec3> x, std::span<const double> h,
+                                           std::span<const unsigned char> counted = {}) const;
+  static std::array<double, 2> merge_excursions(std::span<const double> pairs);
+  bool exceeds_skin(const std::array<double, 2>& top) const;
 
   const NeighbourList& list() const { return list_; }
   double skin() const { return skin_; }

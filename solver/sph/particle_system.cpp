@@ -2,6 +2,7 @@
 
 #include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
+#include "solver/parallel/ranks.hpp"
 #include "solver/sph/sph_update.hpp"
 
 #include <algorithm>
@@ -108,25 +109,76 @@ void ParticleSystem::persist(StateArchive& a) {
   a.value("particles/skin", skin_);
   a.value("particles/dt_stable", dt_stable_);
   a.value("particles/rebuilds", rebuilds_);
+  if (a.reading() && share_)
+    share(); // the checkpoint's order and list (collective: every rank reads the checkpoint)
+}
+
+void ParticleSystem::distribute(std::vector<int> owner_of_id,
+                                std::vector<int> owner_of_background) {
+  owner_of_id_ = std::move(owner_of_id);
+  owner_of_background_ = std::move(owner_of_background);
+  if (!empty())
+    share();
+}
+
+void ParticleSystem::share() {
+  if (share_)
+    halo_bytes_ += share_->halo.bytes_sent();
+  share_ = std::make_unique<ParticleShare>(make_particle_share(
+      particles_, search_.list(), mirror_, owner_of_id_, owner_of_background_, ranks::rank()));
+}
+
+void ParticleSystem::gather_state() {
+  if (share_)
+    share_->all.refresh_each([this](auto visit) { particles_.for_each_field(visit); });
+}
+
+std::span<const unsigned char> ParticleSystem::owned_rows() const {
+  return share_ ? std::span<const unsigned char>(share_->owns) : std::span<const unsigned char>();
+}
+
+// Whether the list may miss a pair; in a distributed run each rank knows the excursions of its
+// own rows (and of their mirror images), and the ranks' largest two are merged.
+bool ParticleSystem::rebuild_due() const {
+  const auto& p = particles_;
+  if (!share_)
+    return search_.needs_update(p.x_p, p.h_p);
+  if (!search_.built_for(p.x_p, p.h_p))
+    return true;
+  const std::array<double, 2> mine = search_.largest_excursions(p.x_p, p.h_p, share_->owns);
+  return search_.exceeds_skin(NeighbourSearch::merge_excursions(ranks::gather_all(mine)));
 }
 
 void ParticleSystem::forces(double dt) {
-  dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
+  if (!share_) {
+    dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
+    return;
+  }
+  dt_stable_ =
+      ranks::min(sph_forces(particles_, search_.list(), materials_, spec_, dt, &share_->own));
 }
 
 Vec3 ParticleSystem::mirror_force() const {
   if (mirror_.empty())
     return Vec3::Zero();
   const auto& p = particles_;
-  return deterministic_sum(p.rows(), Vec3(Vec3::Zero()),
-                           [&](Index i) -> Vec3 { return p.fm_p[i]; });
+  const Vec3 mine = deterministic_sum(p.rows(), Vec3(Vec3::Zero()), [&](Index i) -> Vec3 {
+    return share_ && !share_->owns[i] ? Vec3(Vec3::Zero()) : p.fm_p[i];
+  });
+  if (!share_)
+    return mine;
+  const std::vector<double> all =
+      ranks::sum_in_rank_order(std::array{mine.x(), mine.y(), mine.z()});
+  return {all[0], all[1], all[2]};
 }
 
 void ParticleSystem::kick(double dt_v) {
   auto& p = particles_;
-  const Index n = p.size(), rows = p.rows();
+  const Index n = p.size(), rows = share_ ? static_cast<Index>(share_->own.size()) : p.rows();
+  const Index* own = share_ ? share_->own.data() : nullptr;
 #pragma omp parallel for schedule(static) if (rows > parallel_min_items)
-  for (Index i = 0; i < rows; ++i) {
+  for (Index k = 0; k < rows; ++k) {
+    const Index i = own != nullptr ? own[k] : k;
     if (i < n)
       p.v_p[i] += (dt_v / p.m_p[i]) * p.f_p[i];
     p.e_p[i] += dt_v * p.heat_p[i]; // background particles too: their half of the heating
@@ -135,9 +187,13 @@ void ParticleSystem::kick(double dt_v) {
 
 void ParticleSystem::drift(double dt) {
   auto& p = particles_;
-  const Index n = p.size();
+  const Index n = share_ ? static_cast<Index>(share_->own.size()) : p.size();
+  const Index* own = share_ ? share_->own.data() : nullptr;
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index i = 0; i < n; ++i) {
+  for (Index k = 0; k < n; ++k) {
+    const Index i = own != nullptr ? own[k] : k;
+    if (i >= p.size())
+      continue; // an owned background row: its node moves it
     p.u_p[i] = p.v_p[i] + p.xsph_p[i];
     p.x_p[i] += dt * p.u_p[i];
   }
@@ -146,12 +202,33 @@ void ParticleSystem::drift(double dt) {
 void ParticleSystem::update(double dt) {
   if (empty())
     return;
-  mirror_.refresh_motion(particles_, particles_.rows());
-  if (search_.needs_update(particles_.x_p, particles_.h_p))
+  auto& p = particles_;
+  const auto every_field = [&p](auto visit) { p.for_each_field(visit); };
+  if (share_) {
+    share_->halo.refresh_each(every_field); // what this rank's computations read
+    // The images of rows just received: on one process their stress and kill state were
+    // copied at the end of the last step, after their sources' material update.
+    mirror_.refresh_stress(p, p.rows());
+  }
+  mirror_.refresh_motion(p, p.rows());
+  if (rebuild_due()) {
+    if (share_)
+      share_->all.refresh_each(every_field); // every rank sorts and lists all particles
     rebuild();
-  sph_kinematics(particles_, search_.list(), spec_, dt);
-  sph_material_update(particles_, materials_, spec_, dt);
-  mirror_.refresh_stress(particles_, particles_.rows());
+    if (share_)
+      share();
+  }
+  const std::vector<Index>* computed = share_ ? &share_->computed : nullptr;
+  sph_kinematics(p, search_.list(), spec_, dt, computed);
+  sph_material_update(p, materials_, spec_, dt, computed);
+  if (share_) {
+    // Particles killed in tension, over all ranks: each counts its own.
+    double mine = 0;
+    for (Index i : share_->own)
+      mine += i < p.size() && p.kill_p[i] == Kill::Tension;
+    p.excluded = static_cast<Index>(ranks::sum_in_rank_order(std::array{mine})[0]);
+  }
+  mirror_.refresh_stress(p, p.rows());
   forces(dt);
 }
 

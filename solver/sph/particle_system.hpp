@@ -12,12 +12,15 @@
 
 #include "solver/io/case.hpp"
 #include "solver/material/material.hpp"
+#include "solver/parallel/particle_share.hpp"
 #include "solver/sph/mirror_particles.hpp"
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/model.hpp"
 #include "solver/state/particles.hpp"
 
 #include <functional>
+#include <memory>
+#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -35,6 +38,19 @@ public:
                  Index attached = 0, const AttachRows& attach = {});
 
   bool empty() const { return particles_.total() == 0; }
+  // A distributed run (issue 28): from now on this rank steps the particles owner_of_id gives
+  // it (by model id) and computes what their forces read (parallel/particle_share.hpp).
+  // Collective, as are update(), gather_state() and reading a checkpoint after it.
+  // owner_of_background: the rank of each attached row.
+  void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background);
+  // Every rank's particles into this rank's arrays (before output); nothing on one process.
+  void gather_state();
+  // Per row: 1 for the rows this rank steps (all on one process: empty).
+  std::span<const unsigned char> owned_rows() const;
+  // The rows this rank steps, ascending; null on one process (all).
+  const std::vector<Index>* own_rows() const { return share_ ? &share_->own : nullptr; }
+  // Bytes this rank has sent to refresh other ranks' halos (not counting output gathers).
+  long long halo_bytes() const { return halo_bytes_ + (share_ ? share_->halo.bytes_sent() : 0); }
   // v += Δt_v f/m and the heating of the artificial terms over the same interval.
   void kick(double dt_v);
   void drift(double dt);
@@ -59,6 +75,8 @@ public:
 
 private:
   void rebuild();
+  void share(); // the share of the current neighbour list
+  bool rebuild_due() const;
   void forces(double dt);
   void place_mirrors();
 
@@ -71,6 +89,10 @@ private:
   double skin_ = 0;
   double dt_stable_ = 0;
   long long rebuilds_ = 0;
+  std::vector<int> owner_of_id_;         // a distributed run's owners by model id; else empty
+  std::vector<int> owner_of_background_; // and of the attached rows
+  std::unique_ptr<ParticleShare> share_; // this rank's share of the current list
+  long long halo_bytes_ = 0;             // sent through the shares of earlier lists
 };
 
 } // namespace sphfem

@@ -8,12 +8,28 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace sphfem {
 
 namespace {
+
+// The rows of [begin, end) to compute: all of them (only == null), or those `only` lists
+// (ascending).
+struct RowRange {
+  const Index* list = nullptr; // null: begin + k
+  Index begin = 0, count = 0;
+  Index operator[](Index k) const { return list != nullptr ? list[k] : begin + k; }
+  static RowRange of(const std::vector<Index>* only, Index begin, Index end) {
+    if (only == nullptr)
+      return {nullptr, begin, end - begin};
+    const auto lo = std::lower_bound(only->begin(), only->end(), begin);
+    const auto hi = std::lower_bound(lo, only->end(), end);
+    return {only->data() + (lo - only->begin()), 0, static_cast<Index>(hi - lo)};
+  }
+};
 
 Mat3 total_stress(const Particles& p, Index i) {
   return p.S_p[i] - p.p_p[i] * Mat3::Identity();
@@ -61,12 +77,13 @@ namespace {
 // taken half-way between the last force evaluation (A_p) and the FE stress just copied in:
 // the energy the coupling stores, which the FE elements do not see. With it, energy is
 // balanced across the interface as inside SPH. And their artificial stress, from the FE stress.
-void background_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec,
-                           double dt) {
-  const Index n = p.size(), rows = p.rows();
+void background_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
+                           RowRange rows_of) {
   const bool excluded = p.excluded > 0;
-#pragma omp parallel for schedule(static, interleave_chunk) if (rows - n > parallel_min_items / 16)
-  for (Index b = n; b < rows; ++b) {
+#pragma omp parallel for schedule(static,                                                          \
+                                  interleave_chunk) if (rows_of.count > parallel_min_items / 16)
+  for (Index k = 0; k < rows_of.count; ++k) {
+    const Index b = rows_of[k];
     const Vec3 xb = p.xm_p[b], vb = p.v_p[b];
     Mat3 G = Mat3::Zero(), M = Mat3::Zero();
     for (Index j : list.of(b)) {
@@ -151,28 +168,33 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
 
 } // namespace
 
-void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt) {
-  const Index n = p.size(), total = p.total();
+void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
+                    const std::vector<Index>* only) {
+  const Index total = p.total();
   const bool kill = p.excluded > 0;
 #pragma omp parallel for schedule(static) if (total > parallel_min_items)
   for (Index i = 0; i < total; ++i)
     p.xm_p[i] = p.x_p[i] - 0.5 * dt * p.u_p[i];
-#pragma omp parallel for schedule(static, interleave_chunk) if (n > parallel_min_items / 16)
-  for (Index i = 0; i < n; ++i) {
+  const RowRange real = RowRange::of(only, 0, p.size());
+#pragma omp parallel for schedule(static,                                                          \
+                                  interleave_chunk) if (real.count > parallel_min_items / 16)
+  for (Index k = 0; k < real.count; ++k) {
     if (kill)
-      particle_kinematics<true>(p, list, spec, i);
+      particle_kinematics<true>(p, list, spec, real[k]);
     else
-      particle_kinematics<false>(p, list, spec, i);
+      particle_kinematics<false>(p, list, spec, real[k]);
   }
-  background_kinematics(p, list, spec, dt);
+  background_kinematics(p, list, spec, dt, RowRange::of(only, p.size(), p.rows()));
 }
 
 void sph_material_update(Particles& p, const std::vector<Material>& materials, const SphSpec& spec,
-                         double dt) {
+                         double dt, const std::vector<Index>* only) {
   const Index n = p.size();
+  const RowRange real = RowRange::of(only, 0, n);
   Index first_bad = n, excluded = 0;
-#pragma omp parallel for schedule(static, interleave_chunk) reduction(min : first_bad) reduction(+ : excluded) if (n > parallel_min_items / 4)
-  for (Index i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static, interleave_chunk) reduction(min : first_bad) reduction(+ : excluded) if (real.count > parallel_min_items / 4)
+  for (Index k = 0; k < real.count; ++k) {
+    const Index i = real[k];
     const Material& mat = materials[p.material_p[i]];
     const double rho_old = p.rho_p[i];
     double rho = rho_old + dt * p.drho_p[i];
@@ -225,8 +247,9 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
 }
 
 double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
-                  const SphSpec& spec, double dt) {
+                  const SphSpec& spec, double dt, const std::vector<Index>* only) {
   const Index n = p.size(), rows = p.rows(), total = p.total();
+  const RowRange rows_of = RowRange::of(only, 0, rows);
   const bool excluded = p.excluded > 0;
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
@@ -243,8 +266,9 @@ double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Mat
   double dt_min = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(static, interleave_chunk)                                        \
     reduction(min                                                                                  \
-              : dt_min) if (rows > parallel_min_items / 16)
-  for (Index i = 0; i < rows; ++i) {
+              : dt_min) if (rows_of.count > parallel_min_items / 16)
+  for (Index k = 0; k < rows_of.count; ++k) {
+    const Index i = rows_of[k];
     const Vec3 xi = p.x_p[i], vi = p.v_p[i], vni = p.vn_p[i];
     const int group = p.group_p[i];
     const bool real = i < n;

@@ -28,13 +28,16 @@
 namespace sphfem {
 
 // dt: the step just taken (0 at the start), to recover the mid-step positions.
-void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt);
+// `only` (each function): the rows to compute, ascending — a distributed run's share
+// (parallel/particle_share.hpp); null: all.
+void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
+                    const std::vector<Index>* only = nullptr);
 
 // Advances density, smoothing length and stress over dt (> 0).
 // Johnson–Cook materials take the stress update of material_point.hpp; a particle that fails
 // is killed (Particles::kill_p, METHOD.md §6).
 void sph_material_update(Particles& p, const std::vector<Material>& materials, const SphSpec& spec,
-                         double dt);
+                         double dt, const std::vector<Index>* only = nullptr);
 
 // Fills f_p and heat_p; returns the stable step cfl · min h/(c + |v|) (s). The heating power
 // is taken at the velocities of the kick that will apply it, v + ½ dt f/m, predicted with the
@@ -43,6 +46,6 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
 // (2% over bar_pressed_sph).
 // Pairs with a particle killed in tension are skipped.
 double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
-                  const SphSpec& spec, double dt);
+                  const SphSpec& spec, double dt, const std::vector<Index>* only = nullptr);
 
 } // namespace sphfem

@@ -70,6 +70,7 @@ struct Particles {
   std::vector<int> neighbours_p; // neighbour count (within 2h), for output
   std::vector<Vec3> fc_p;        // contact force on the particle (part of f_p), N
   std::vector<Vec3> fm_p;        // force from mirror images: the symmetry planes' reaction, N
+  std::vector<double> phi_p;     // kernel-contact energy of the row's pairs (half of each), J
 
   // What a row starts a run with besides the fresh state start_row() gives every row.
   struct RowStart {
@@ -102,6 +103,7 @@ struct Particles {
     f_p[i].setZero();
     fc_p[i].setZero();
     fm_p[i].setZero();
+    phi_p[i] = 0;
   }
 
   Index size() const { return real; }
@@ -152,6 +154,7 @@ struct Particles {
     visit("neighbours_p", neighbours_p);
     visit("fc_p", fc_p);
     visit("fm_p", fm_p);
+    visit("phi_p", phi_p);
   }
 };
 

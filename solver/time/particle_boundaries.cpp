@@ -66,11 +66,16 @@ ParticleBoundaries::ParticleBoundaries(const Case& c, const Model& model) {
 ReactionTotals ParticleBoundaries::apply(double t, double t_half, double dt_v,
                                          ParticleSystem& system) const {
   Particles& p = system.particles();
+  // A distributed run: each rank applies (and counts) its own particles' conditions.
+  const std::span<const unsigned char> own = system.owned_rows();
+  const auto mine = [&own](Index i) { return own.empty() || own[i]; };
   ReactionTotals totals;
   for (const auto& load : loads_) {
     const double pressure = load.pressure * load.function(t);
     for (std::size_t k = 0; k < load.ids.size(); ++k) {
       const Index i = system.index_of(load.ids[k]);
+      if (!mine(i))
+        continue;
       const Vec3 impulse = (-dt_v * pressure * load.area[k]) * load.normal;
       const Vec3 v_old = p.v_p[i] - (dt_v / p.m_p[i]) * p.f_p[i]; // v^{n−½}
       p.v_p[i] += impulse / p.m_p[i];
@@ -82,6 +87,8 @@ ReactionTotals ParticleBoundaries::apply(double t, double t_half, double dt_v,
     const double scale = c.function(t_half);
     for (Index id : c.ids) {
       const Index i = system.index_of(id);
+      if (!mine(i))
+        continue;
       const Vec3 v_free = p.v_p[i];
       for (int d = 0; d < 3; ++d)
         if (c.velocity[d]) {

@@ -109,8 +109,17 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   momentum_scale_ =
       deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
-  if (decomposition != nullptr && decomposition->parts > 1)
+  if (decomposition != nullptr && decomposition->parts > 1) {
     subdomain_ = std::make_unique<Subdomain>(make_subdomain(*decomposition, model, ranks::rank()));
+    // A background particle goes with its node, a tied particle too: its merge with the node
+    // is then one rank's (a small constraint on the decomposition's balance).
+    std::vector<int> owner_of_id = decomposition->part_p, owner_of_background(background_.size());
+    for (Index k = 0; k < ties_.size(); ++k)
+      owner_of_id[ties_.particle_id(k)] = decomposition->part_n[ties_.node(k)];
+    for (Index k = 0; k < background_.size(); ++k)
+      owner_of_background[k] = decomposition->part_n[background_.node(k)];
+    particles_.distribute(std::move(owner_of_id), std::move(owner_of_background));
+  }
 }
 
 template <class F> void Simulation::for_own_nodes(F f) {
@@ -126,6 +135,7 @@ void Simulation::gather_state() {
     return;
   subdomain_->all_nodes.refresh_each([this](auto visit) { nodes_.for_each_field(visit); });
   subdomain_->all_elements.refresh_each([this](auto visit) { elements_.for_each_field(visit); });
+  particles_.gather_state();
 }
 
 void Simulation::step(double dt) {
@@ -157,13 +167,9 @@ void Simulation::step(double dt) {
   impulse_scale_ += mirror_impulse.norm();
   const auto index_of = [this](Index id) { return particles_.index_of(id); };
   ties_.merge(particles_.particles(), nodes_, index_of);
-  if (!particle_boundaries_.empty()) {
-    const ReactionTotals on_particles =
-        particle_boundaries_.apply(time_, time_ + 0.5 * dt, dt_v, particles_);
-    external_work_ += on_particles.work;
-    external_impulse_ += on_particles.impulse;
-    impulse_scale_ += on_particles.impulse.norm();
-  }
+  ReactionTotals on_particles;
+  if (!particle_boundaries_.empty())
+    on_particles = particle_boundaries_.apply(time_, time_ + 0.5 * dt, dt_v, particles_);
 
   // The loads' and the constraints' work and impulse: over the nodes this rank owns, then
   // summed over the ranks in rank order.
@@ -181,12 +187,27 @@ void Simulation::step(double dt) {
     });
   ReactionTotals reactions = constraints_.apply(time_ + 0.5 * dt, dt_v, m, f, v, own);
   if (subdomain_) {
-    const std::array<double, 8> local{
-        loaded.work,    loaded.impulse.x(),    loaded.impulse.y(),    loaded.impulse.z(),
-        reactions.work, reactions.impulse.x(), reactions.impulse.y(), reactions.impulse.z()};
+    const std::array<double, 12> local{on_particles.work,
+                                       on_particles.impulse.x(),
+                                       on_particles.impulse.y(),
+                                       on_particles.impulse.z(),
+                                       loaded.work,
+                                       loaded.impulse.x(),
+                                       loaded.impulse.y(),
+                                       loaded.impulse.z(),
+                                       reactions.work,
+                                       reactions.impulse.x(),
+                                       reactions.impulse.y(),
+                                       reactions.impulse.z()};
     const std::vector<double> total = ranks::sum_in_rank_order(local);
-    loaded = {total[0], Vec3(total[1], total[2], total[3])};
-    reactions = {total[4], Vec3(total[5], total[6], total[7])};
+    on_particles = {total[0], Vec3(total[1], total[2], total[3])};
+    loaded = {total[4], Vec3(total[5], total[6], total[7])};
+    reactions = {total[8], Vec3(total[9], total[10], total[11])};
+  }
+  if (!particle_boundaries_.empty()) {
+    external_work_ += on_particles.work;
+    external_impulse_ += on_particles.impulse;
+    impulse_scale_ += on_particles.impulse.norm();
   }
   if (!loads_.empty()) {
     external_work_ += loaded.work;
@@ -206,8 +227,8 @@ void Simulation::step(double dt) {
 
   if (subdomain_) {
     dt_elements_ = ranks::min(
-        update_hex_elements({x, v, dt, subdomain_->elements}, materials_, fem_, elements_));
-    gather_.gather_forces(elements_, f, subdomain_->nodes);
+        update_hex_elements({x, v, dt, &subdomain_->elements}, materials_, fem_, elements_));
+    gather_.gather_forces(elements_, f, &subdomain_->nodes);
   } else {
     dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
     gather_.gather_forces(elements_, f);
@@ -215,7 +236,7 @@ void Simulation::step(double dt) {
   background_.fill(nodes_, elements_, gather_, particles_.particles());
   particles_.update(dt);
   contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
-                 dt);
+                 dt, particles_.own_rows());
   background_.return_forces(particles_.particles(), f);
   time_ += dt;
   dt_previous_ = dt;
@@ -265,7 +286,7 @@ Energies Simulation::energies() const {
       deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : e.e_hg_e[k]; });
   out.eroded = deterministic_sum(
       e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? internal(k) + e.e_hg_e[k] : 0.0; });
-  out.contact = contact_.energy();
+  out.contact = contact_.energy(particles_.particles());
   out.friction = friction_work_;
   out.external_work = external_work_;
   return out;

@@ -81,6 +81,10 @@ public:
   // probes, frames and checkpoints see the whole state, as on one process. Collective; nothing
   // to do on one process.
   void gather_state();
+  // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
+  long long halo_bytes() const {
+    return (subdomain_ ? subdomain_->halo.bytes_sent() : 0) + particles_.halo_bytes();
+  }
 
   double time() const { return time_; }
   long long steps() const { return steps_; }

@@ -3,10 +3,11 @@
 // the ghost layers a plane cut leaves on each side, the nodes a cut shares, and a cost-weighted
 // cut that gives the part with the dearer particles fewer entities; and a rank's share of the
 // elements (solver/parallel/subdomain.hpp): the nodes it owns, the elements it computes, the
-// halo it reads.
+// halo it reads; and its share of the particles (solver/parallel/particle_share.hpp).
 #include "solver/core/error.hpp"
 #include "solver/parallel/decomposition.hpp"
 #include "solver/parallel/halo.hpp"
+#include "solver/parallel/particle_share.hpp"
 #include "solver/parallel/subdomain.hpp"
 #include "solver/time/cost_estimate.hpp"
 
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <set>
 
 namespace sphfem {
@@ -270,6 +272,38 @@ TEST(Subdomain, ARankComputesEveryElementAroundItsNodesAndReadsTheirNodes) {
     }
   }
   EXPECT_TRUE(std::ranges::all_of(owners, [](int n) { return n == 1; })); // each node once
+}
+
+TEST(ParticleShare, ARankComputesItsParticlesNeighboursAndReadsTheirs) {
+  // An 8 × 4 × 4 lattice (1 mm, h = 1.2 mm: a list reaches 2.4 mm, two layers) owned by two
+  // ranks split at x = 3.5 mm. The lower rank owns 4 layers (64 particles), computes them and
+  // the 2 layers beyond the cut (96) and reads the 2 layers beyond those too (all 64 others).
+  Model m;
+  add_lattice(m, 8, 4, 4);
+  Particles p;
+  p.real = static_cast<Index>(m.x_p.size());
+  p.x_p = m.x_p;
+  p.id_p.resize(p.real);
+  std::iota(p.id_p.begin(), p.id_p.end(), Index{0});
+  NeighbourSearch search;
+  search.build(m.x_p, m.h_p, 0.0);
+  std::vector<int> owner(p.real);
+  for (Index i = 0; i < p.real; ++i)
+    owner[i] = m.x_p[i].x() < 3.5 * mm ? 0 : 1;
+  const ParticleShare lower =
+      make_particle_share(p, search.list(), MirrorParticles(), owner, {}, 0, false);
+  EXPECT_EQ(lower.own.size(), 64u);
+  EXPECT_EQ(lower.computed.size(), 96u);
+  EXPECT_EQ(lower.halo_rows.size(), 64u);
+  for (Index i : lower.computed)
+    EXPECT_LT(m.x_p[i].x(), 5.5 * mm);
+  // Every neighbour of an owned row is computed; every neighbour of a computed row is read.
+  for (Index i : lower.own)
+    for (Index j : search.list().of(i))
+      EXPECT_TRUE(std::ranges::binary_search(lower.computed, j));
+  for (Index i : lower.computed)
+    for (Index j : search.list().of(i))
+      EXPECT_TRUE(lower.owns[j] || std::ranges::binary_search(lower.halo_rows, j));
 }
 
 TEST(Decomposition, BadRequestsAreRefused) {

@@ -1,0 +1,56 @@
+#include "solver/parallel/particle_share.hpp"
+
+#include "solver/core/error.hpp"
+
+namespace sphfem {
+
+ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
+                                  const MirrorParticles& mirrors, std::span<const int> owner_of_id,
+                                  std::span<const int> owner_of_background, int rank,
+                                  bool collective) {
+  const Index n = p.size(), rows = p.rows(), total = p.total();
+  SPHFEM_CHECK(owner_of_background.size() == static_cast<std::size_t>(p.background),
+               "particle share: ", owner_of_background.size(), " owners for ", p.background,
+               " background rows (internal error)");
+  ParticleShare s;
+  s.owner.resize(rows);
+  for (Index k = 0; k < rows; ++k)
+    s.owner[k] = k < n ? owner_of_id[p.id_p[k]] : owner_of_background[k - n];
+  // A mirror image is made here from its source row.
+  const auto row_of = [&](Index j) { return j < rows ? j : mirrors.source(j - rows); };
+  s.owns.assign(total, 0);
+  for (Index k = 0; k < total; ++k)
+    s.owns[k] = s.owner[row_of(k)] == rank;
+  std::vector<unsigned char> computed(rows, 0), read(rows, 0);
+  for (Index i = 0; i < rows; ++i) {
+    if (!s.owns[i])
+      continue;
+    s.own.push_back(i);
+    computed[i] = 1;
+    for (Index j : list.of(i))
+      computed[row_of(j)] = 1;
+  }
+  for (Index i = 0; i < rows; ++i) {
+    if (!computed[i])
+      continue;
+    s.computed.push_back(i);
+    read[i] = 1;
+    for (Index j : list.of(i))
+      read[row_of(j)] = 1;
+  }
+  std::vector<Index> others;
+  for (Index i = 0; i < rows; ++i) {
+    if (s.owns[i])
+      continue;
+    others.push_back(i);
+    if (read[i])
+      s.halo_rows.push_back(i);
+  }
+  if (!collective)
+    return s;
+  s.halo = HaloExchange(s.owner, s.halo_rows);
+  s.all = HaloExchange(s.owner, others);
+  return s;
+}
+
+} // namespace sphfem
