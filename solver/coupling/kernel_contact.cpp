@@ -27,10 +27,11 @@ void KernelContact::apply(Particles& p, const NeighbourList& list,
   // Each row (real and background particles) gathers its own forces (race-free); each pair's
   // energy is counted once per row, so halved. A pair with a mirror image (no row of its own)
   // then counts half: its mirror pair, the other half, lies outside the modelled part.
-  const Index count = only != nullptr ? static_cast<Index>(only->size()) : p.rows();
-#pragma omp parallel for schedule(static, interleave_chunk) if (count > parallel_min_items / 16)
-  for (Index k = 0; k < count; ++k) {
-    const Index i = only != nullptr ? (*only)[k] : k;
+  const IndexRange rows = IndexRange::of(only, p.rows());
+#pragma omp parallel for schedule(static,                                                          \
+                                  interleave_chunk) if (rows.count > parallel_min_items / 16)
+  for (Index k = 0; k < rows.count; ++k) {
+    const Index i = rows[k];
     p.phi_p[i] = 0;
     if (!in_contact_[p.body_p[i]])
       continue;

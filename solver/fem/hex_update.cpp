@@ -76,7 +76,7 @@ template <bool General>
 double update_elements(const HexStepInput& in, const std::vector<Material>& materials,
                        const FemSpec& fem, HexElements& e) {
   const Index n = e.size();
-  const Index count = in.only == nullptr ? n : static_cast<Index>(in.only->size());
+  const IndexRange range = IndexRange::of(in.only, n);
   const bool stiffness = fem.hourglass_form == HourglassForm::Stiffness;
   const double dt = in.dt;
   double dt_min = std::numeric_limits<double>::infinity();
@@ -84,9 +84,9 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
 
 #pragma omp parallel for schedule(static, interleave_chunk)                                        \
     reduction(min                                                                                  \
-              : dt_min, first_inverted) if (count > parallel_min_items / 16)
-  for (Index j = 0; j < count; ++j) {
-    const Index k = in.only == nullptr ? j : (*in.only)[j];
+              : dt_min, first_inverted) if (range.count > parallel_min_items / 16)
+  for (Index j = 0; j < range.count; ++j) {
+    const Index k = range[j];
     if (General && e.eroded_e[k])
       continue;
     const Hex& nodes = e.nodes_e[k];

@@ -20,11 +20,10 @@ NodeGather::NodeGather(const std::vector<Hex>& elements, Index node_count)
 
 void NodeGather::gather_forces(const HexElements& e, std::vector<Vec3>& out,
                                const std::vector<Index>* only) const {
-  const Index n =
-      only == nullptr ? static_cast<Index>(offsets_.size()) - 1 : static_cast<Index>(only->size());
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index j = 0; j < n; ++j) {
-    const Index i = only == nullptr ? j : (*only)[j];
+  const IndexRange nodes = IndexRange::of(only, static_cast<Index>(offsets_.size()) - 1);
+#pragma omp parallel for schedule(static) if (nodes.count > parallel_min_items)
+  for (Index j = 0; j < nodes.count; ++j) {
+    const Index i = nodes[j];
     Vec3 sum = Vec3::Zero();
     for (Index k = offsets_[i]; k < offsets_[i + 1]; ++k)
       sum += e.f_e[entries_[k] / 8][entries_[k] % 8];

@@ -174,11 +174,11 @@ Vec3 ParticleSystem::mirror_force() const {
 
 void ParticleSystem::kick(double dt_v) {
   auto& p = particles_;
-  const Index n = p.size(), rows = share_ ? static_cast<Index>(share_->own.size()) : p.rows();
-  const Index* own = share_ ? share_->own.data() : nullptr;
-#pragma omp parallel for schedule(static) if (rows > parallel_min_items)
-  for (Index k = 0; k < rows; ++k) {
-    const Index i = own != nullptr ? own[k] : k;
+  const Index n = p.size();
+  const IndexRange rows = IndexRange::of(own_rows(), p.rows());
+#pragma omp parallel for schedule(static) if (rows.count > parallel_min_items)
+  for (Index k = 0; k < rows.count; ++k) {
+    const Index i = rows[k];
     if (i < n)
       p.v_p[i] += (dt_v / p.m_p[i]) * p.f_p[i];
     p.e_p[i] += dt_v * p.heat_p[i]; // background particles too: their half of the heating
@@ -187,13 +187,11 @@ void ParticleSystem::kick(double dt_v) {
 
 void ParticleSystem::drift(double dt) {
   auto& p = particles_;
-  const Index n = share_ ? static_cast<Index>(share_->own.size()) : p.size();
-  const Index* own = share_ ? share_->own.data() : nullptr;
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index k = 0; k < n; ++k) {
-    const Index i = own != nullptr ? own[k] : k;
-    if (i >= p.size())
-      continue; // an owned background row: its node moves it
+  // Real particles only: a background row moves with its node.
+  const IndexRange real = IndexRange::of(own_rows(), p.size());
+#pragma omp parallel for schedule(static) if (real.count > parallel_min_items)
+  for (Index k = 0; k < real.count; ++k) {
+    const Index i = real[k];
     p.u_p[i] = p.v_p[i] + p.xsph_p[i];
     p.x_p[i] += dt * p.u_p[i];
   }

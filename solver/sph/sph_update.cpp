@@ -16,21 +16,6 @@ namespace sphfem {
 
 namespace {
 
-// The rows of [begin, end) to compute: all of them (only == null), or those `only` lists
-// (ascending).
-struct RowRange {
-  const Index* list = nullptr; // null: begin + k
-  Index begin = 0, count = 0;
-  Index operator[](Index k) const { return list != nullptr ? list[k] : begin + k; }
-  static RowRange of(const std::vector<Index>* only, Index begin, Index end) {
-    if (only == nullptr)
-      return {nullptr, begin, end - begin};
-    const auto lo = std::lower_bound(only->begin(), only->end(), begin);
-    const auto hi = std::lower_bound(lo, only->end(), end);
-    return {only->data() + (lo - only->begin()), 0, static_cast<Index>(hi - lo)};
-  }
-};
-
 Mat3 total_stress(const Particles& p, Index i) {
   return p.S_p[i] - p.p_p[i] * Mat3::Identity();
 }
@@ -78,7 +63,7 @@ namespace {
 // the energy the coupling stores, which the FE elements do not see. With it, energy is
 // balanced across the interface as inside SPH. And their artificial stress, from the FE stress.
 void background_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
-                           RowRange rows_of) {
+                           IndexRange rows_of) {
   const bool excluded = p.excluded > 0;
 #pragma omp parallel for schedule(static,                                                          \
                                   interleave_chunk) if (rows_of.count > parallel_min_items / 16)
@@ -175,7 +160,7 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
 #pragma omp parallel for schedule(static) if (total > parallel_min_items)
   for (Index i = 0; i < total; ++i)
     p.xm_p[i] = p.x_p[i] - 0.5 * dt * p.u_p[i];
-  const RowRange real = RowRange::of(only, 0, p.size());
+  const IndexRange real = IndexRange::of(only, 0, p.size());
 #pragma omp parallel for schedule(static,                                                          \
                                   interleave_chunk) if (real.count > parallel_min_items / 16)
   for (Index k = 0; k < real.count; ++k) {
@@ -184,13 +169,13 @@ void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec
     else
       particle_kinematics<false>(p, list, spec, real[k]);
   }
-  background_kinematics(p, list, spec, dt, RowRange::of(only, p.size(), p.rows()));
+  background_kinematics(p, list, spec, dt, IndexRange::of(only, p.size(), p.rows()));
 }
 
 void sph_material_update(Particles& p, const std::vector<Material>& materials, const SphSpec& spec,
                          double dt, const std::vector<Index>* only) {
   const Index n = p.size();
-  const RowRange real = RowRange::of(only, 0, n);
+  const IndexRange real = IndexRange::of(only, 0, n);
   Index first_bad = n, excluded = 0;
 #pragma omp parallel for schedule(static, interleave_chunk) reduction(min : first_bad) reduction(+ : excluded) if (real.count > parallel_min_items / 4)
   for (Index k = 0; k < real.count; ++k) {
@@ -249,7 +234,7 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
 double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
                   const SphSpec& spec, double dt, const std::vector<Index>* only) {
   const Index n = p.size(), rows = p.rows(), total = p.total();
-  const RowRange rows_of = RowRange::of(only, 0, rows);
+  const IndexRange rows_of = IndexRange::of(only, 0, rows);
   const bool excluded = p.excluded > 0;
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.

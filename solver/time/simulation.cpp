@@ -123,11 +123,10 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
 }
 
 template <class F> void Simulation::for_own_nodes(F f) {
-  const Index count = subdomain_ ? static_cast<Index>(subdomain_->nodes.size()) : nodes_.size();
-  const Index* own = subdomain_ ? subdomain_->nodes.data() : nullptr;
-#pragma omp parallel for schedule(static) if (count > parallel_min_items)
-  for (Index j = 0; j < count; ++j)
-    f(own != nullptr ? own[j] : j);
+  const IndexRange own = IndexRange::of(subdomain_ ? &subdomain_->nodes : nullptr, nodes_.size());
+#pragma omp parallel for schedule(static) if (own.count > parallel_min_items)
+  for (Index j = 0; j < own.count; ++j)
+    f(own[j]);
 }
 
 void Simulation::gather_state() {
