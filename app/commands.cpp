@@ -239,7 +239,6 @@ int run_command_line(int argc, char** argv) {
     const fs::path out = o.out_dir;
     if (!o.restart.empty()) // refused before anything is meshed or written
       check_restart_case(o.restart, read_checkpoint_meta(o.restart), c);
-    check_distributable(c);
     const bool remesh = pipeline && o.restart.empty();
     const Model model = model_of_run(c, out, remesh, o.quiet || !speaker);
     const auto summary = solve(c, model, {out, !o.quiet && speaker, o.restart});

@@ -58,8 +58,9 @@ echo "| case | entities | steps | 1 rank × 1 thread, s | 2 ranks × 1 thread, s
 echo "|---|---|---|---|---|---|---|---|---|---|"
 measure fe_bar "$cases/bar_pressed_fe/case.yaml" --set bodies.bar.element_size=0.0005
 measure sph_bar "$cases/bar_pressed_sph/case.yaml" --set bodies.bar.spacing=0.0005
-# The Børvik scene at its coarse preset with the paper's kernel contact (the surface contact is
-# not shared among ranks yet), its first 40 µs.
-measure borvik_coarse_kernel "$cases/borvik_12mm/case.yaml" --set preset=coarse \
-  --set 'projectile.contact={model: kernel, penalty: 1.0e11, exponent: 4}' \
-  --set projectile.h_factor=0.3 --set time.end=4e-5
+# The Børvik shot at 303.5 m/s, the scene as it is (surface contact), its first 40 µs: the
+# impact, the plug's shear band forming; at the coarse and the standard preset.
+measure borvik_coarse "$cases/borvik_12mm/case.yaml" --set preset=coarse \
+  --set projectile.velocity=303.5 --set time.end=4e-5
+measure borvik_standard "$cases/borvik_12mm/case.yaml" --set preset=standard \
+  --set projectile.velocity=303.5 --set time.end=4e-5

@@ -2,6 +2,9 @@
 
 #include "solver/core/error.hpp"
 #include "solver/core/parallel.hpp"
+#include "solver/parallel/ranks.hpp"
+
+#include <array>
 
 #include <cmath>
 
@@ -17,27 +20,28 @@ Contact::Contact(const Case& c, const Model& model, const Particles& p,
 }
 
 void Contact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
-                    const HexElements& elements, double dt, const std::vector<Index>* only) {
+                    const HexElements& elements, double dt, const ContactRanks* ranks) {
   if (empty())
     return;
-  SPHFEM_CHECK(only == nullptr || surface_.empty(),
-               "the surface contact is not shared among ranks yet (internal error)");
   const Index rows = p.rows();
 #pragma omp parallel for schedule(static) if (rows > parallel_min_items)
-  for (Index i = 0; i < rows; ++i)
+  for (Index i = 0; i < rows; ++i) {
     p.fc_p[i].setZero();
+    p.phi_p[i] = 0;
+  }
   if (!kernel_.empty())
-    kernel_.apply(p, list, only);
-  const ContactTotals surface = surface_.apply(p, list, rebuilds, elements, dt);
-  energy_ = surface.energy;
+    kernel_.apply(p, list, ranks != nullptr ? ranks->own : nullptr);
+  const ContactTotals surface = surface_.apply(p, list, rebuilds, elements, dt, ranks);
   friction_power_ = surface.friction_power;
   omega2_ = surface.omega2;
+  if (ranks != nullptr && !surface_.empty()) {
+    friction_power_ = ranks::sum_in_rank_order(std::array{friction_power_})[0];
+    omega2_ = ranks::max(omega2_);
+  }
 }
 
 double Contact::energy(const Particles& p) const {
-  const double kernel =
-      kernel_.empty() ? 0.0 : deterministic_sum(p.rows(), 0.0, [&](Index i) { return p.phi_p[i]; });
-  return kernel + energy_;
+  return deterministic_sum(p.rows(), 0.0, [&](Index i) { return p.phi_p[i]; });
 }
 
 Vec3 Contact::force_on(const Particles& p, int body) const {
@@ -49,7 +53,6 @@ Vec3 Contact::force_on(const Particles& p, int body) const {
 }
 
 void Contact::persist(StateArchive& a) {
-  a.value("contact/energy", energy_);
   a.value("contact/friction_power", friction_power_);
   a.value("contact/omega2", omega2_);
   if (a.reading())

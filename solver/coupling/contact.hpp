@@ -24,13 +24,18 @@ public:
           const BackgroundParticles& background, const HexElements& elements);
 
   bool empty() const { return kernel_.empty() && surface_.empty(); }
-  // Sets fc_p to the contact force on every row and adds it to f_p. rebuilds: the neighbour
-  // search's build count; dt: the step just taken (0 at the start).
-  // only: the rows to evaluate (a distributed run's own rows; kernel contact only), null: all.
+  // Sets fc_p to the contact force on every row and adds it to f_p; sets phi_p to each row's
+  // share of the contact energy. rebuilds: the neighbour search's build count; dt: the step just
+  // taken (0 at the start). ranks: a distributed run's (this rank's rows are evaluated; the
+  // friction power and the stable step are then the ranks' total and least), null: one process.
+  // Collective when distributed.
   void apply(Particles& p, const NeighbourList& list, long long rebuilds,
-             const HexElements& elements, double dt, const std::vector<Index>* only = nullptr);
+             const HexElements& elements, double dt, const ContactRanks* ranks = nullptr);
+  // Whether eroding elements change the contact surfaces (a distributed run then shares the
+  // erosion of every element before apply()).
+  bool follows_erosion() const { return surface_.follows_erosion(); }
 
-  // Penalty energy stored at the last evaluation, J (the kernel contact's from p's rows).
+  // Penalty energy stored at the last evaluation, J: Σ phi_p over p's rows.
   double energy(const Particles& p) const;
   // Power dissipated by friction at the last evaluation, W (its forces act over the next kick).
   double friction_power() const { return friction_power_; }
@@ -48,7 +53,6 @@ private:
   KernelContact kernel_;
   SurfaceContact surface_;
   std::vector<char> in_contact_; // per body: named in some pair
-  double energy_ = 0;            // the surface contact's
   double friction_power_ = 0;
   double omega2_ = 0;
 };

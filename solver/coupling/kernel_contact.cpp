@@ -32,7 +32,6 @@ void KernelContact::apply(Particles& p, const NeighbourList& list,
                                   interleave_chunk) if (rows.count > parallel_min_items / 16)
   for (Index k = 0; k < rows.count; ++k) {
     const Index i = rows[k];
-    p.phi_p[i] = 0;
     if (!in_contact_[p.body_p[i]])
       continue;
     const int row = p.body_p[i] * bodies_;
@@ -64,7 +63,7 @@ void KernelContact::apply(Particles& p, const NeighbourList& list,
     }
     p.fc_p[i] += f;
     p.f_p[i] += f;
-    p.phi_p[i] = 0.5 * phi;
+    p.phi_p[i] += 0.5 * phi;
   }
 }
 

@@ -26,7 +26,7 @@ public:
 
   bool empty() const { return pairs_.empty(); }
   // Adds the contact forces to f_p and fc_p of every row, real or background, or of the rows
-  // `only` lists (ascending; a distributed run's own rows), and sets their phi_p: half the
+  // `only` lists (ascending; a distributed run's own rows), and adds to their phi_p half the
   // energy Φ_ij of each of their pairs, so that the contact energy is Σ phi_p.
   void apply(Particles& p, const NeighbourList& list,
              const std::vector<Index>* only = nullptr) const;

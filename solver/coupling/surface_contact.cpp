@@ -6,6 +6,7 @@
 #include "solver/coupling/quad_projection.hpp"
 #include "solver/fem/surface_faces.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -214,13 +215,51 @@ void SurfaceContact::build_candidates(Particles& p, const NeighbourList& list) {
   for (Index c = 0; c < static_cast<Index>(candidates_.size()); ++c)
     for (int a = 0; a < 4; ++a)
       master_entries_[cursor_[faces_[candidates_[c].face].rows[a] - real_]++] = 4 * c + a;
+  ++candidate_builds_;
 }
 
-ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, double dt) const {
+void SurfaceContact::share(const Particles& p, const ContactRanks& ranks) {
+  // A slave's forces reach its own row and its candidate faces' corners: this rank evaluates it
+  // if one of them is its own. It reads the slave, those faces, and for a node the faces around
+  // it (its normal).
+  const auto& owns = ranks.owns;
+  evaluated_.assign(slave_rows_.size(), 0);
+  std::vector<unsigned char> read(p.rows(), 0), normal_read(p.background, 0);
+  for (std::size_t s = 0; s < slave_rows_.size(); ++s) {
+    const Index i = slave_rows_[s];
+    bool reached = owns[i];
+    for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
+      for (const Index row : faces_[candidates_[c].face].rows)
+        reached = reached || owns[row];
+    if (!reached)
+      continue;
+    evaluated_[s] = 1;
+    read[i] = 1;
+    for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
+      for (const Index row : faces_[candidates_[c].face].rows)
+        read[row] = 1;
+    if (i >= real_)
+      normal_read[i - real_] = 1;
+  }
+  for (const Face& face : faces_)
+    if (std::ranges::any_of(face.rows, [&](Index row) { return normal_read[row - real_] != 0; }))
+      for (const Index row : face.rows)
+        read[row] = 1;
+  std::vector<Index> rows;
+  for (Index i = 0; i < p.rows(); ++i)
+    if (read[i] && !owns[i])
+      rows.push_back(i);
+  ranks.read_also(rows);
+}
+
+ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, double dt,
+                                      const ContactRanks* ranks) const {
   // Each particle gathers its own pairs (race-free); each pair's energy and power count half in
   // each of its two rows — so a pair with a mirror image (no row of its own) counts half: its
   // mirror pair, the other half, lies outside the modelled part.
-  return deterministic_sum(p.size(), ContactTotals{}, [&](Index i) {
+  const IndexRange rows = IndexRange::of(ranks != nullptr ? ranks->own : nullptr, p.size());
+  return deterministic_sum(rows.count, ContactTotals{}, [&](Index k) {
+    const Index i = rows[k];
     const int body = p.body_p[i];
     if (!sphere_partner_[body])
       return ContactTotals{};
@@ -229,6 +268,7 @@ ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, d
     const double R_i = 0.5 * p.dp_p[i], m_i = p.m_p[i], V_i = m_i / p.rho0_p[i];
     Vec3 f = Vec3::Zero();
     ContactTotals sums;
+    double energy = 0;
     double stiffness = 0; // Σ k (1/m_i + 1/m_j) of the springs near contact
     for (const Index j : list.of(i)) {
       if (!p.real_like(j))
@@ -256,11 +296,12 @@ ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, d
       f += f_ij;
       if (j >= p.rows())
         p.fm_p[i] += f_ij; // contact with a mirror image: part of the planes' reaction
-      sums.energy += 0.25 * k * gap * gap;
+      energy += 0.25 * k * gap * gap;
       sums.friction_power += 0.5 * friction.power;
     }
     p.f_p[i] += f;
     p.fc_p[i] += f;
+    p.phi_p[i] += energy;
     if (f != Vec3::Zero())
       p.xsph_p[i].setZero(); // drifts with v while pressed: the spring's energy then balances
     sums.omega2 = stiffness;
@@ -283,9 +324,12 @@ void SurfaceContact::update_normals(const Particles& p) {
       n /= length;
 }
 
-ContactTotals SurfaceContact::segments(Particles& p, double dt) {
-  // Each slave chooses its face and writes only its own candidates (race-free).
+ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRanks* ranks) {
+  // Each slave chooses its face and writes only its own candidates (race-free). Several ranks
+  // may evaluate a slave; its owner counts its friction.
   return deterministic_sum(static_cast<Index>(slave_rows_.size()), ContactTotals{}, [&](Index s) {
+    if (ranks != nullptr && !evaluated_[s])
+      return ContactTotals{};
     const Index i = slave_rows_[s];
     const bool particle = i < real_;
     const double R = particle ? 0.5 * p.dp_p[i] : 0.0;
@@ -392,15 +436,18 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt) {
     const Friction friction =
         coulomb(pair.friction, normal, n, p.v_p[i] - v_face, 1 / inverse_mass, dt);
     chosen.force = normal * n + friction.force;
-    sums.energy = 0.5 * k * gap * gap;
-    sums.friction_power = friction.power;
+    p.phi_p[i] += 0.5 * k * gap * gap;
+    if (ranks == nullptr || ranks->owns[i])
+      sums.friction_power = friction.power;
     return sums;
   });
 }
 
-ContactTotals SurfaceContact::gather(Particles& p) const {
+ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) const {
   // Each row sums its own entries — as a slave, then as a face corner — in a fixed order.
-  return deterministic_sum(p.rows(), ContactTotals{}, [&](Index i) {
+  const IndexRange rows = IndexRange::of(ranks != nullptr ? ranks->own : nullptr, p.rows());
+  return deterministic_sum(rows.count, ContactTotals{}, [&](Index k) {
+    const Index i = rows[k];
     if (!in_pair_[p.body_p[i]])
       return ContactTotals{};
     Vec3 f = Vec3::Zero();
@@ -432,7 +479,8 @@ ContactTotals SurfaceContact::gather(Particles& p) const {
 }
 
 ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
-                                    const HexElements& elements, double dt) {
+                                    const HexElements& elements, double dt,
+                                    const ContactRanks* ranks) {
   if (pairs_.empty())
     return {};
   if (eroded_seen_ < 0 || eroded_count(elements) != eroded_seen_)
@@ -441,11 +489,15 @@ ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, lon
     build_candidates(p, list);
     built_for_ = rebuilds;
   }
-  ContactTotals totals = spheres(p, list, dt);
+  if (ranks != nullptr && shared_for_ != std::pair{candidate_builds_, ranks->shares}) {
+    share(p, *ranks);
+    shared_for_ = {candidate_builds_, ranks->shares};
+  }
+  ContactTotals totals = spheres(p, list, dt, ranks);
   if (!faces_.empty())
     update_normals(p);
-  totals += segments(p, dt);
-  totals += gather(p);
+  totals += segments(p, dt, ranks);
+  totals += gather(p, ranks);
   return totals;
 }
 

@@ -45,10 +45,18 @@
 // Candidates come from the neighbour lists: a slave within contact range of a face lies within
 // h_a + h_s of one of its corner nodes a when the corners' h is at least ½ the face's diagonal
 // (checked at the start). They are collected when the lists are rebuilt, and the faces again
-// when elements erode. Verified by tests/coupling/surface_contact_test.cpp.
+// when elements erode. The energy of each pair is kept on its slave's row (phi_p; a sphere pair
+// half on each), so that the contact energy is Σ phi_p.
+// Across MPI ranks (coupling/contact_ranks.hpp): every rank holds the same faces and candidates
+// (from the whole neighbour list and the whole erosion state) and evaluates the slaves whose
+// forces reach its rows — its own, and those pressing on a face with a corner of its own — as
+// their owners do; the rows they read join the particle halo. Each row's force is then summed
+// as on one process. Verified by tests/coupling/surface_contact_test.cpp and the mpirun runs of
+// tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
 #include "solver/coupling/background_particles.hpp"
+#include "solver/coupling/contact_ranks.hpp"
 #include "solver/io/case.hpp"
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/hex_elements.hpp"
@@ -63,13 +71,12 @@
 
 namespace sphfem {
 
-// What one evaluation of contact gives besides its forces.
+// What one evaluation of contact gives besides its forces and its energy (phi_p): over this
+// rank's rows and slaves.
 struct ContactTotals {
-  double energy = 0;         // penalty energy stored now, J
   double friction_power = 0; // power dissipated by friction now, W
   double omega2 = 0;         // largest squared angular frequency of the contact springs, 1/s²
   ContactTotals& operator+=(const ContactTotals& o) {
-    energy += o.energy;
     friction_power += o.friction_power;
     omega2 = std::max(omega2, o.omega2);
     return *this;
@@ -88,11 +95,14 @@ public:
   // Drops the faces and candidates collected so far, so that the next apply() collects them
   // again (after a checkpoint was read into the state).
   void forget() { eroded_seen_ = -1, built_for_ = -1; }
-  // Adds the contact and friction forces to f_p and fc_p of every row. rebuilds: the neighbour
+  // Adds the contact and friction forces to f_p and fc_p of every row (of this rank's rows:
+  // `ranks`, null on one process) and the pairs' energy to phi_p. rebuilds: the neighbour
   // search's build count (its lists and the particle order change with it); dt: the step just
-  // taken (0 at the start: no friction then).
+  // taken (0 at the start: no friction then). Collective when the candidates change.
   ContactTotals apply(Particles& p, const NeighbourList& list, long long rebuilds,
-                      const HexElements& elements, double dt);
+                      const HexElements& elements, double dt, const ContactRanks* ranks = nullptr);
+  // Whether the faces follow eroding elements (a distributed run then shares the erosion).
+  bool follows_erosion() const { return erodes_; }
 
 private:
   struct Pair {
@@ -120,10 +130,13 @@ private:
   bool slave(const Particles& p, Index i) const;
   void build_faces(const Particles& p, const HexElements& elements);
   void build_candidates(Particles& p, const NeighbourList& list);
-  ContactTotals spheres(Particles& p, const NeighbourList& list, double dt) const;
+  // The slaves this rank evaluates, and the rows they read added to the halo (collective).
+  void share(const Particles& p, const ContactRanks& ranks);
+  ContactTotals spheres(Particles& p, const NeighbourList& list, double dt,
+                        const ContactRanks* ranks) const;
   void update_normals(const Particles& p);
-  ContactTotals segments(Particles& p, double dt);
-  ContactTotals gather(Particles& p) const;
+  ContactTotals segments(Particles& p, double dt, const ContactRanks* ranks);
+  ContactTotals gather(Particles& p, const ContactRanks* ranks) const;
   Index eroded_count(const HexElements& elements) const;
 
   int bodies_ = 0;
@@ -140,11 +153,16 @@ private:
   Index real_ = 0;                     // rows before the background rows
 
   std::vector<Face> faces_;
-  std::vector<double> area_;      // per background row: tributary area on live surface faces, m²
-  std::vector<double> thickness_; // per background row: area-weighted V0/A0 under those faces, m
-  std::vector<Vec3> normal_;      // per background row: outward normal of its surface faces now
-  Index eroded_seen_ = -1;        // eroded elements of fem_bodies_ when faces_ was built
-  long long built_for_ = -1;      // the neighbour build the candidates come from
+  std::vector<double> area_;       // per background row: tributary area on live surface faces, m²
+  std::vector<double> thickness_;  // per background row: area-weighted V0/A0 under those faces, m
+  std::vector<Vec3> normal_;       // per background row: outward normal of its surface faces now
+  Index eroded_seen_ = -1;         // eroded elements of fem_bodies_ when faces_ was built
+  long long built_for_ = -1;       // the neighbour build the candidates come from
+  long long candidate_builds_ = 0; // candidate lists built so far
+  // A distributed run: the candidate list and the share of rows the reads were added for, and
+  // per slave whether this rank evaluates it.
+  std::pair<long long, long long> shared_for_{-1, -1};
+  std::vector<unsigned char> evaluated_;
   std::vector<Candidate> candidates_;          // grouped by slave, faces ascending
   std::vector<Index> slave_rows_;              // the rows with candidates, ascending
   std::vector<Index> slave_offsets_;           // per slave, into candidates_

@@ -1,6 +1,9 @@
 #include "solver/parallel/particle_share.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/parallel/ranks.hpp"
+
+#include <algorithm>
 
 namespace sphfem {
 
@@ -51,6 +54,22 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
   s.halo = HaloExchange(s.owner, s.halo_rows);
   s.all = HaloExchange(s.owner, others);
   return s;
+}
+
+bool read_also(ParticleShare& s, std::span<const Index> rows) {
+  std::vector<Index> added;
+  for (const Index i : rows)
+    if (!s.owns[i] && !std::ranges::binary_search(s.halo_rows, i))
+      added.push_back(i);
+  std::ranges::sort(added);
+  added.erase(std::unique(added.begin(), added.end()), added.end());
+  if (ranks::max(static_cast<int>(added.size())) == 0)
+    return false;
+  std::vector<Index> merged(s.halo_rows.size() + added.size());
+  std::ranges::merge(s.halo_rows, added, merged.begin());
+  s.halo_rows = std::move(merged);
+  s.halo = HaloExchange(s.owner, s.halo_rows);
+  return true;
 }
 
 } // namespace sphfem

@@ -8,7 +8,9 @@
 //   particle phase;
 // - `all`: every row this rank does not own, before a neighbour-list rebuild (every rank then
 //   sorts and lists all particles as one process does) and before output.
-// Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.
+// Rebuilt with each neighbour list; a coupling that reads further (the surface contact's faces
+// and slaves) adds its rows to the halo with `read_also`. The arrays keep the one-process layout
+// on every rank.
 // Verified by tests/parallel/decomposition_test.cpp and tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
@@ -37,5 +39,9 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
                                   const MirrorParticles& mirrors, std::span<const int> owner_of_id,
                                   std::span<const int> owner_of_background, int rank,
                                   bool collective = true);
+
+// Adds `rows` (any order; own rows and rows already read are skipped) to the halo; false, and
+// nothing changed, when no rank has rows to add. Collective.
+bool read_also(ParticleShare& s, std::span<const Index> rows);
 
 } // namespace sphfem

@@ -47,6 +47,12 @@ int max(int value) {
   return value;
 }
 
+double max(double value) {
+  if (size() > 1)
+    MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return value;
+}
+
 std::vector<double> sum_in_rank_order(std::span<const double> values) {
   const int n = size();
   std::vector<double> out(values.begin(), values.end());
@@ -96,6 +102,9 @@ double min(double value) {
   return value;
 }
 int max(int value) {
+  return value;
+}
+double max(double value) {
   return value;
 }
 std::vector<double> sum_in_rank_order(std::span<const double> values) {

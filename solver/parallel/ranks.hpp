@@ -20,6 +20,7 @@ inline bool distributed() {
 double min(double value);
 // The largest of `value` over the ranks.
 int max(int value);
+double max(double value);
 // Element-wise sums over the ranks, added in rank order (0, 1, …): the same on every rank and on
 // every repeat.
 std::vector<double> sum_in_rank_order(std::span<const double> values);

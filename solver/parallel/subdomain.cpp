@@ -15,6 +15,8 @@ Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool 
     }
   std::vector<unsigned char> read(n, 0);
   for (Index k = 0; k < ne; ++k) {
+    if (d.part_e[k] == rank)
+      s.own_elements.push_back(k);
     bool computed = d.part_e[k] == rank;
     for (Index i : m.hex_e[k])
       computed = computed || s.owns_n[i];

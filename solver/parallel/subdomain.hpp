@@ -23,6 +23,7 @@ struct Subdomain {
   std::vector<Index> nodes;          // owned, ascending
   std::vector<unsigned char> owns_n; // per node: 1 when owned here
   std::vector<Index> elements;       // computed here, ascending
+  std::vector<Index> own_elements;   // the decomposition's elements of this rank, ascending
   std::vector<Index> halo_nodes;     // nodes of `elements` owned elsewhere, ascending
   HaloExchange halo, all_nodes, all_elements;
 };

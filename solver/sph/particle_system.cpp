@@ -126,6 +126,20 @@ void ParticleSystem::share() {
     halo_bytes_ += share_->halo.bytes_sent();
   share_ = std::make_unique<ParticleShare>(make_particle_share(
       particles_, search_.list(), mirror_, owner_of_id_, owner_of_background_, ranks::rank()));
+  ++shares_;
+}
+
+void ParticleSystem::read_also(std::span<const Index> rows) {
+  if (!share_)
+    return;
+  const long long sent = share_->halo.bytes_sent();
+  if (!sphfem::read_also(*share_, rows))
+    return;
+  halo_bytes_ += sent;
+  auto& p = particles_;
+  share_->halo.refresh_each([&p](auto visit) { p.for_each_field(visit); });
+  mirror_.refresh_motion(p, p.rows());
+  mirror_.refresh_stress(p, p.rows());
 }
 
 void ParticleSystem::gather_state() {

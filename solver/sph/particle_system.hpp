@@ -49,6 +49,13 @@ public:
   std::span<const unsigned char> owned_rows() const;
   // The rows this rank steps, ascending; null on one process (all).
   const std::vector<Index>* own_rows() const { return share_ ? &share_->own : nullptr; }
+  // Adds `rows` to what this rank refreshes before each particle phase, until the next
+  // neighbour list, and refreshes them now (a coupling's reads: the surface contact's faces and
+  // slaves). Collective.
+  void read_also(std::span<const Index> rows);
+  // Changes whenever the rows this rank refreshes are chosen anew (each neighbour list, each
+  // checkpoint read): a coupling's reads are then to be added again.
+  long long shares() const { return shares_; }
   // Bytes this rank has sent to refresh other ranks' halos (not counting output gathers).
   long long halo_bytes() const { return halo_bytes_ + (share_ ? share_->halo.bytes_sent() : 0); }
   // v += Δt_v f/m and the heating of the artificial terms over the same interval.
@@ -93,6 +100,7 @@ private:
   std::vector<int> owner_of_background_; // and of the attached rows
   std::unique_ptr<ParticleShare> share_; // this rank's share of the current list
   long long halo_bytes_ = 0;             // sent through the shares of earlier lists
+  long long shares_ = 0;                 // shares made so far
 };
 
 } // namespace sphfem

@@ -118,28 +118,14 @@ void check_restart(const std::filesystem::path& file, const CheckpointMeta& meta
 
 } // namespace
 
-void check_distributable(const Case& c) {
-  if (!ranks::distributed())
-    return;
-  // The surface contact is not shared among ranks yet (its segments and slaves span them).
-  for (const ContactSpec& pair : c.contacts)
-    SPHFEM_CHECK(pair.model != ContactModel::Surface, "contact ", pair.bodies[0], "–",
-                 pair.bodies[1], " is a surface contact, and a run on ", ranks::size(),
-                 " MPI ranks does not share the surface contact yet (the kernel contact, "
-                 "`model: kernel`, it does); run it on one rank (no mpirun, or -np 1) with "
-                 "--threads");
-}
-
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options) {
   const auto& out = options.out_dir;
   // A distributed run: every rank steps its share; rank 0 alone writes (its arrays are made
   // whole by Simulation::gather_state before each output) and speaks.
   const bool writer = ranks::rank() == 0;
   std::optional<Decomposition> decomposition;
-  if (ranks::distributed()) {
-    check_distributable(c);
+  if (ranks::distributed())
     decomposition = decompose(model, entity_costs(model), ranks::size());
-  }
   if (writer)
     std::filesystem::create_directories(out);
   RunLog log(writer ? out / "run.log" : std::filesystem::path("/dev/null"), options.echo && writer);

@@ -37,10 +37,6 @@ private:
   int signal_;
 };
 
-// Throws sphfem::Error if this process is one of several MPI ranks and the case has what a
-// distributed run does not step yet (particles, contact): called before anything is written.
-void check_distributable(const Case& c);
-
 // Runs the case and returns the summary that was written to OUT/summary.json.
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options);
 

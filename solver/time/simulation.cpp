@@ -129,6 +129,17 @@ template <class F> void Simulation::for_own_nodes(F f) {
     f(own[j]);
 }
 
+void Simulation::share_erosion() {
+  double mine = 0;
+  for (const Index k : subdomain_->own_elements)
+    mine += elements_.eroded_e[k] != 0;
+  const double eroded = ranks::sum_in_rank_order(std::array{mine})[0];
+  if (eroded == eroded_shared_)
+    return;
+  subdomain_->all_elements.refresh(elements_.eroded_e);
+  eroded_shared_ = eroded;
+}
+
 void Simulation::gather_state() {
   if (!subdomain_)
     return;
@@ -228,14 +239,23 @@ void Simulation::step(double dt) {
     dt_elements_ = ranks::min(
         update_hex_elements({x, v, dt, &subdomain_->elements}, materials_, fem_, elements_));
     gather_.gather_forces(elements_, f, &subdomain_->nodes);
+    if (contact_.follows_erosion())
+      share_erosion();
   } else {
     dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
     gather_.gather_forces(elements_, f);
   }
   background_.fill(nodes_, elements_, gather_, particles_.particles());
   particles_.update(dt);
-  contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
-                 dt, particles_.own_rows());
+  if (const std::vector<Index>* own = particles_.own_rows(); own != nullptr) {
+    const ContactRanks ranks{own, particles_.owned_rows(), particles_.shares(),
+                             [this](std::span<const Index> rows) { particles_.read_also(rows); }};
+    contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(),
+                   elements_, dt, &ranks);
+  } else {
+    contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(),
+                   elements_, dt);
+  }
   background_.return_forces(particles_.particles(), f);
   time_ += dt;
   dt_previous_ = dt;

@@ -115,6 +115,10 @@ public:
 private:
   // f(i) for each node this rank steps (all on one process), in parallel.
   template <class F> void for_own_nodes(F f);
+  // A distributed run whose contact surfaces follow erosion: when the elements eroded over all
+  // ranks change in number, every rank learns each element's state (the elements a rank does
+  // not compute keep old flags otherwise). Collective.
+  void share_erosion();
 
   double cfl_;
   FemSpec fem_;
@@ -143,6 +147,7 @@ private:
   Vec3 external_impulse_ = Vec3::Zero();
   double impulse_scale_ = 0;
   std::unique_ptr<Subdomain> subdomain_; // a distributed run's share; null on one process
+  double eroded_shared_ = -1;            // elements eroded over all ranks when last shared
 };
 
 } // namespace sphfem
