@@ -106,11 +106,12 @@ void run_partition_command(const PartitionCommandOptions& o, const Case& c, cons
                      {"foreign_nodes", p.foreign_nodes},
                      {"cost_s_per_step", p.cost_s},
                      {"halo_fraction", p.halo_fraction()},
-                     {"region_m", region(d.regions[q])}});
+                     {"region_m", region(d.regions[q])},
+                     {"particle_region_m", region(d.particle_regions[q])}});
   }
   nlohmann::json summary = {
       {"ranks", o.ranks},
-      {"method", "RCB (Zoltan), weighted by cost per step"},
+      {"method", "RCB (Zoltan) of the particles and of the hexahedra, weighted by cost per step"},
       {"skin_m", census.skin},
       {"imbalance", census.imbalance},
       {"halo_fraction", {{"max", largest_halo}, {"mean", halo_sum / o.ranks}}},
@@ -158,7 +159,8 @@ void run_partition_command(const PartitionCommandOptions& o, const Case& c, cons
                       p.particles, p.elements, p.nodes, p.shared_nodes, p.ghost_points,
                       p.foreign_nodes, p.cost_s * 1e3, p.halo_fraction());
   }
-  std::cerr << line("imbalance %.4f (largest rank's cost / mean), halo fraction max %.3f mean "
+  std::cerr << line("imbalance %.4f (the worse phase's largest rank cost / mean), halo fraction "
+                    "max %.3f mean "
                     "%.3f, skin %.3g m\n",
                     census.imbalance, largest_halo, halo_sum / o.ranks, census.skin)
             << "partition: " << (out / "partition.json").string() << ", "

@@ -55,7 +55,7 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
         double x[3];
         grid->GetPoint(k, x);
         int& owner = moved.part_p[static_cast<std::size_t>(i)];
-        owner = moved.part_at(Vec3(x[0], x[1], x[2]), owner);
+        owner = moved.particle_part_at(Vec3(x[0], x[1], x[2]), owner);
       }
     } else {
       SPHFEM_CHECK(np == 0, run_dir.string(), ": the run has no particle frames, the case has ", np,

@@ -14,9 +14,10 @@
 namespace sphfem::post {
 
 // Two ownerships, each rank's cost per frame and per rank in s per step (one thread), and the
-// imbalance (largest rank's cost / mean) per frame: each entity kept on its rank of t = 0, and
-// each entity with the rank whose region (RCB's box) it is in then, keeping its rank while on
-// that region's face — what migration at neighbour-list rebuilds would give.
+// imbalance (largest rank's cost / mean, both phases summed: a drift of either shows) per frame:
+// each entity kept on its rank of t = 0, and each entity with the rank whose region (RCB's box:
+// the particles' or the elements') it is in then, keeping its rank while on that region's face —
+// what migration at neighbour-list rebuilds would give.
 struct RunBalance {
   std::vector<double> time_s;
   std::vector<std::vector<double>> cost_s, region_cost_s;

@@ -79,7 +79,7 @@ EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group,
 
 namespace {
 
-// What RCB cuts: the particles first, then the elements at their centroids.
+// What one RCB cuts: the particles, or the elements at their centroids.
 struct Objects {
   std::vector<Vec3> x;
   std::vector<float> weight; // ns per step: Zoltan takes single-precision weights
@@ -241,22 +241,34 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   constexpr double infinity = std::numeric_limits<double>::infinity();
   d.regions.assign(1, {Vec3::Constant(-infinity), Vec3::Constant(infinity)});
   if (parts > 1) {
-    Objects o;
-    for (std::size_t i = 0; i < m.x_p.size(); ++i) {
-      o.x.push_back(m.x_p[i]);
-      o.weight.push_back(static_cast<float>(costs.particle[i] * 1e9));
+    // The step's two phases, the elements' and then the particles', are separated by exchanges:
+    // each is balanced on its own (one RCB of the hexahedra, one of the particles), so that no
+    // rank idles through one phase while the others finish it.
+    if (!m.x_p.empty()) {
+      Objects o;
+      for (std::size_t i = 0; i < m.x_p.size(); ++i) {
+        o.x.push_back(m.x_p[i]);
+        o.weight.push_back(static_cast<float>(costs.particle[i] * 1e9));
+      }
+      d.part_p = rcb_parts(o, parts, d.particle_regions);
     }
-    for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
-      Vec3 c = Vec3::Zero();
-      for (const Index n : m.hex_e[e])
-        c += m.x_n[static_cast<std::size_t>(n)];
-      o.x.push_back(c / 8.0);
-      o.weight.push_back(static_cast<float>(costs.element[e] * 1e9));
+    if (!m.hex_e.empty()) {
+      Objects o;
+      for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+        Vec3 c = Vec3::Zero();
+        for (const Index n : m.hex_e[e])
+          c += m.x_n[static_cast<std::size_t>(n)];
+        o.x.push_back(c / 8.0);
+        o.weight.push_back(static_cast<float>(costs.element[e] * 1e9));
+      }
+      d.part_e = rcb_parts(o, parts, d.regions);
     }
-    const std::vector<int> part = rcb_parts(o, parts, d.regions);
-    std::copy_n(part.begin(), m.x_p.size(), d.part_p.begin());
-    std::copy(part.begin() + static_cast<std::ptrdiff_t>(m.x_p.size()), part.end(),
-              d.part_e.begin());
+    if (m.x_p.empty())
+      d.particle_regions = d.regions;
+    if (m.hex_e.empty())
+      d.regions = d.particle_regions;
+  } else {
+    d.particle_regions = d.regions;
   }
 
   d.part_n.assign(m.x_n.size(), parts);
@@ -274,7 +286,10 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   return d;
 }
 
-int Decomposition::part_at(const Vec3& x, int current) const {
+namespace {
+
+int part_in(const std::vector<Decomposition::Region>& regions, const Vec3& x, int current) {
+  const auto parts = static_cast<int>(regions.size());
   if (current >= 0 && current < parts && regions[static_cast<std::size_t>(current)].holds(x))
     return current;
   for (std::size_t q = 0; q < regions.size(); ++q)
@@ -282,6 +297,16 @@ int Decomposition::part_at(const Vec3& x, int current) const {
       return static_cast<int>(q);
   throw Error("decomposition: no region holds the point (" + std::to_string(x.x()) + ", " +
               std::to_string(x.y()) + ", " + std::to_string(x.z()) + ") m");
+}
+
+} // namespace
+
+int Decomposition::part_at(const Vec3& x, int current) const {
+  return part_in(regions, x, current);
+}
+
+int Decomposition::particle_part_at(const Vec3& x, int current) const {
+  return part_in(particle_regions, x, current);
 }
 
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,

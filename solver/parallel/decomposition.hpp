@@ -1,8 +1,11 @@
 // Domain decomposition of a model among ranks (issue 28, point 2): recursive coordinate
-// bisection (Zoltan's RCB) of the particles and the hexahedra (at their centroids), each weighted
-// by its measured cost per step (solver/time/cost_estimate.hpp's StepCost: a particle costs
-// StepCost::particle plus StepCost::entry per neighbour-list entry; an element StepCost::element
-// plus its share of the nodes). Elements and their nodes go together: a node belongs to the
+// bisection (Zoltan's RCB) of the particles, and another of the hexahedra (at their centroids),
+// each entity weighted by its measured cost per step (solver/time/cost_estimate.hpp's StepCost:
+// a particle costs StepCost::particle plus StepCost::entry per neighbour-list entry; an element
+// StepCost::element plus its share of the nodes). Two cuts, because the step has two phases
+// separated by exchanges (the elements', then the particles'): one cut of both kinds together
+// balanced their sum, and each rank idled through the phase it had little of
+// (docs/scaling.md). Elements and their nodes go together: a node belongs to the
 // lowest part among the elements that hold it, and is "shared" when elements of several parts
 // hold it (its forces and masses are then summed across those parts, METHOD.md §3). Background
 // particles are the FE nodes' own (§4.1) and follow their node.
@@ -35,7 +38,9 @@ EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group = {}
 
 struct Decomposition {
   // Each part's region: the box RCB's cuts bound it by (infinite on the model's outer sides).
-  // The regions tile space; a moving entity's owner is the region it is in (part_at).
+  // The regions tile space; a moving entity's owner is the region it is in (part_at). The
+  // elements' cut makes `regions`, the particles' `particle_regions` (the same when the model
+  // has only one kind).
   struct Region {
     Vec3 lo, hi;
     bool holds(const Vec3& x) const { // faces included
@@ -44,22 +49,26 @@ struct Decomposition {
   };
 
   int parts = 1;
-  std::vector<Region> regions;         // per part
-  std::vector<int> part_p;             // per particle
-  std::vector<int> part_e;             // per element
-  std::vector<int> part_n;             // per node: the lowest part among the elements holding it
-  std::vector<unsigned char> shared_n; // 1 when elements of more than one part hold the node
+  std::vector<Region> regions;          // per part: of its elements and nodes
+  std::vector<Region> particle_regions; // per part: of its particles
+  std::vector<int> part_p;              // per particle
+  std::vector<int> part_e;              // per element
+  std::vector<int> part_n;              // per node: the lowest part among the elements holding it
+  std::vector<unsigned char> shared_n;  // 1 when elements of more than one part hold the node
 
   // The owner of an entity at x: `current` while its region still holds x (RCB splits the
   // entities lying on a cut between the two sides), else the lowest part whose region does.
   int part_at(const Vec3& x, int current = -1) const;
+  // The same for a particle, by particle_regions.
+  int particle_part_at(const Vec3& x, int current = -1) const;
 };
 
 // True when this build can decompose (MPI and Zoltan found at configuration).
 bool decomposition_available();
 
-// RCB into `parts` parts (≥ 1) balancing the summed costs. Throws sphfem::Error when parts < 1,
-// when the costs do not match the model, or when the build has no Zoltan.
+// RCB into `parts` parts (≥ 1) balancing the particles' costs and the elements' costs. Throws
+// sphfem::Error when parts < 1, when the costs do not match the model, or when the build has no
+// Zoltan.
 Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
 
 // Each part's cost per step at a later state of the run, the decomposition kept: a live

@@ -27,7 +27,7 @@ struct PartLoad {
 struct HaloCensus {
   std::vector<PartLoad> parts;
   double skin = 0;      // m
-  double imbalance = 1; // largest part's cost / mean part cost
+  double imbalance = 1; // the worse phase's (particles', elements'): largest part's / mean cost
 };
 
 // Throws sphfem::Error for a negative or non-finite skin or a decomposition of another model.

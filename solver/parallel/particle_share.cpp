@@ -24,30 +24,25 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
   s.owns.assign(total, 0);
   for (Index k = 0; k < total; ++k)
     s.owns[k] = s.owner[row_of(k)] == rank;
-  std::vector<unsigned char> computed(rows, 0), read(rows, 0);
+  std::vector<unsigned char> read(rows, 0);
   for (Index i = 0; i < rows; ++i) {
     if (!s.owns[i])
       continue;
     s.own.push_back(i);
-    computed[i] = 1;
-    for (Index j : list.of(i))
-      computed[row_of(j)] = 1;
-  }
-  for (Index i = 0; i < rows; ++i) {
-    if (!computed[i])
-      continue;
-    s.computed.push_back(i);
-    read[i] = 1;
     for (Index j : list.of(i))
       read[row_of(j)] = 1;
   }
   std::vector<Index> others;
   for (Index i = 0; i < rows; ++i) {
-    if (s.owns[i])
+    if (s.owns[i]) {
+      s.visible.push_back(i);
       continue;
+    }
     others.push_back(i);
-    if (read[i])
+    if (read[i]) {
       s.halo_rows.push_back(i);
+      s.visible.push_back(i);
+    }
   }
   if (!collective)
     return s;
@@ -68,6 +63,9 @@ bool read_also(ParticleShare& s, std::span<const Index> rows) {
   std::vector<Index> merged(s.halo_rows.size() + added.size());
   std::ranges::merge(s.halo_rows, added, merged.begin());
   s.halo_rows = std::move(merged);
+  merged.assign(s.own.size() + s.halo_rows.size(), 0);
+  std::ranges::merge(s.own, s.halo_rows, merged.begin());
+  s.visible = std::move(merged);
   s.halo = HaloExchange(s.owner, s.halo_rows);
   return true;
 }

@@ -1,16 +1,14 @@
 // This rank's share of a distributed run's particles (issue 28, point 3), for one neighbour
-// list: the rows it owns (the decomposition's particles, by model id, and the background rows
-// of its nodes), the rows it computes —
-// its own and their neighbours, whose density and stress its own forces read, evaluated here as
-// their owners do — and the exchanges:
-// - `halo`: every field of the rows those computations read and this rank does not own (the
-//   computed rows and their neighbours; a mirror image stands for its source), before each
-//   particle phase;
+// list: the rows it owns and steps (the decomposition's particles, by model id, and the background
+// rows of its nodes) and its halo — the rows its own rows' kinematics, material update and forces
+// read and other ranks own: their neighbours (a mirror image stands for its source), and what a
+// coupling adds (`read_also`: the surface contact's faces and slaves). The exchanges:
+// - `halo`: every field of the halo rows, twice in each particle phase: before the kinematics
+//   (positions and velocities have moved) and after the material update (density, stress and
+//   the rest that the forces read), so that no rank repeats another's material update;
 // - `all`: every row this rank does not own, before a neighbour-list rebuild (every rank then
 //   sorts and lists all particles as one process does) and before output.
-// Rebuilt with each neighbour list; a coupling that reads further (the surface contact's faces
-// and slaves) adds its rows to the halo with `read_also`. The arrays keep the one-process layout
-// on every rank.
+// Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.
 // Verified by tests/parallel/decomposition_test.cpp and tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
@@ -28,8 +26,8 @@ struct ParticleShare {
   std::vector<int> owner;          // per row (real and background): the owning rank
   std::vector<unsigned char> owns; // per row of all (mirror images: their source's)
   std::vector<Index> own;          // owned rows, ascending
-  std::vector<Index> computed;     // rows whose kinematics and material update run here
   std::vector<Index> halo_rows;    // rows read here and owned elsewhere, ascending
+  std::vector<Index> visible;      // own and halo rows, ascending
   HaloExchange halo, all;
 };
 

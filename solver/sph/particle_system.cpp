@@ -168,8 +168,8 @@ void ParticleSystem::forces(double dt) {
     dt_stable_ = sph_forces(particles_, search_.list(), materials_, spec_, dt);
     return;
   }
-  dt_stable_ =
-      ranks::min(sph_forces(particles_, search_.list(), materials_, spec_, dt, &share_->own));
+  dt_stable_ = ranks::min(sph_forces(particles_, search_.list(), materials_, spec_, dt,
+                                     &share_->own, &share_->visible));
 }
 
 Vec3 ParticleSystem::mirror_force() const {
@@ -230,15 +230,15 @@ void ParticleSystem::update(double dt) {
     if (share_)
       share();
   }
-  const std::vector<Index>* computed = share_ ? &share_->computed : nullptr;
-  sph_kinematics(p, search_.list(), spec_, dt, computed);
-  sph_material_update(p, materials_, spec_, dt, computed);
+  sph_kinematics(p, search_.list(), spec_, dt, own_rows(), share_ ? &share_->visible : nullptr);
+  sph_material_update(p, materials_, spec_, dt, own_rows());
   if (share_) {
     // Particles killed in tension, over all ranks: each counts its own.
     double mine = 0;
     for (Index i : share_->own)
       mine += i < p.size() && p.kill_p[i] == Kill::Tension;
     p.excluded = static_cast<Index>(ranks::sum_in_rank_order(std::array{mine})[0]);
+    share_->halo.refresh_each(every_field); // the halo's new density and stress
   }
   mirror_.refresh_stress(p, p.rows());
   forces(dt);

@@ -151,15 +151,24 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
   p.neighbours_p[i] = count;
 }
 
+// f(i) for the visible rows (all if null) and every mirror image, in parallel.
+template <class F> void for_visible(const Particles& p, const std::vector<Index>* visible, F f) {
+  const IndexRange rows = IndexRange::of(visible, p.rows());
+#pragma omp parallel for schedule(static) if (rows.count > parallel_min_items)
+  for (Index k = 0; k < rows.count; ++k)
+    f(rows[k]);
+  const Index images = p.total() - p.rows();
+#pragma omp parallel for schedule(static) if (images > parallel_min_items)
+  for (Index k = 0; k < images; ++k)
+    f(p.rows() + k);
+}
+
 } // namespace
 
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
-                    const std::vector<Index>* only) {
-  const Index total = p.total();
+                    const std::vector<Index>* only, const std::vector<Index>* visible) {
   const bool kill = p.excluded > 0;
-#pragma omp parallel for schedule(static) if (total > parallel_min_items)
-  for (Index i = 0; i < total; ++i)
-    p.xm_p[i] = p.x_p[i] - 0.5 * dt * p.u_p[i];
+  for_visible(p, visible, [&](Index i) { p.xm_p[i] = p.x_p[i] - 0.5 * dt * p.u_p[i]; });
   const IndexRange real = IndexRange::of(only, 0, p.size());
 #pragma omp parallel for schedule(static,                                                          \
                                   interleave_chunk) if (real.count > parallel_min_items / 16)
@@ -232,19 +241,19 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
 }
 
 double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
-                  const SphSpec& spec, double dt, const std::vector<Index>* only) {
-  const Index n = p.size(), rows = p.rows(), total = p.total();
+                  const SphSpec& spec, double dt, const std::vector<Index>* only,
+                  const std::vector<Index>* visible) {
+  const Index n = p.size(), rows = p.rows();
   const IndexRange rows_of = IndexRange::of(only, 0, rows);
   const bool excluded = p.excluded > 0;
   const int exponent = static_cast<int>(std::lround(spec.stress_exponent));
   // σ Cᵀ/ρ² and the sound speed once per particle, not once per pair.
-#pragma omp parallel for schedule(static) if (total > parallel_min_items)
-  for (Index i = 0; i < total; ++i) {
+  for_visible(p, visible, [&](Index i) {
     p.A_p[i] = total_stress(p, i) * p.C_p[i].transpose() * (1.0 / (p.rho_p[i] * p.rho_p[i]));
     const Material& mat = materials[p.material_p[i]];
     p.c_p[i] = mat.sound_speed(p.rho_p[i], energy_density(p, mat, i));
     p.vn_p[i] = p.v_p[i] + (0.5 * dt / p.m_p[i]) * p.f_p[i];
-  }
+  });
   // Real particles gather from every neighbour of their group (mirror images included);
   // background particles only from real ones (and their images), so each gets exactly minus
   // what it exerts (returned to its FE node). Mirror images gather nothing.

@@ -29,9 +29,11 @@ namespace sphfem {
 
 // dt: the step just taken (0 at the start), to recover the mid-step positions.
 // `only` (each function): the rows to compute, ascending — a distributed run's share
-// (parallel/particle_share.hpp); null: all.
+// (parallel/particle_share.hpp); null: all. `visible`: the rows whose per-particle terms those
+// read (the share and its halo, ascending; mirror images always), null: all.
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
-                    const std::vector<Index>* only = nullptr);
+                    const std::vector<Index>* only = nullptr,
+                    const std::vector<Index>* visible = nullptr);
 
 // Advances density, smoothing length and stress over dt (> 0).
 // Johnson–Cook materials take the stress update of material_point.hpp; a particle that fails
@@ -46,6 +48,7 @@ void sph_material_update(Particles& p, const std::vector<Material>& materials, c
 // (2% over bar_pressed_sph).
 // Pairs with a particle killed in tension are skipped.
 double sph_forces(Particles& p, const NeighbourList& list, const std::vector<Material>& materials,
-                  const SphSpec& spec, double dt, const std::vector<Index>* only = nullptr);
+                  const SphSpec& spec, double dt, const std::vector<Index>* only = nullptr,
+                  const std::vector<Index>* visible = nullptr);
 
 } // namespace sphfem
