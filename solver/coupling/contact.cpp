@@ -5,7 +5,6 @@
 #include "solver/parallel/ranks.hpp"
 
 #include <array>
-
 #include <cmath>
 
 namespace sphfem {
