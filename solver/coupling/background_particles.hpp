@@ -16,6 +16,7 @@
 #include "solver/state/nodes.hpp"
 #include "solver/state/particles.hpp"
 
+#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -45,11 +46,40 @@ public:
   // f_nodes[node] += the pair and contact forces on its background particle.
   void return_forces(const Particles& p, std::vector<Vec3>& f_nodes) const;
 
+  // The fields fill() writes and those return_forces() reads, as spans over the background
+  // rows, for a distributed run's exchanges: visit(name, span) per field.
+  template <class Visit> static void visit_filled(Particles& p, Visit visit);
+  template <class Visit> static void visit_returned(Particles& p, Visit visit);
+
   // Energy stored by the coupling pairs on the background side (at the half step), J.
   double energy(const Particles& p) const;
 
 private:
+  template <class T> static std::span<T> rows(Particles& p, std::vector<T>& field) {
+    return std::span<T>(field).subspan(static_cast<std::size_t>(p.real),
+                                       static_cast<std::size_t>(p.background));
+  }
+
   std::vector<Index> nodes_;
 };
+
+template <class Visit> void BackgroundParticles::visit_filled(Particles& p, Visit visit) {
+  auto x = rows(p, p.x_p), v = rows(p, p.v_p), u = rows(p, p.u_p), f = rows(p, p.f_p);
+  auto m = rows(p, p.m_p), rho = rows(p, p.rho_p), pressure = rows(p, p.p_p);
+  auto S = rows(p, p.S_p);
+  visit("x", x);
+  visit("v", v);
+  visit("u", u);
+  visit("m", m);
+  visit("rho", rho);
+  visit("p", pressure);
+  visit("S", S);
+  visit("f", f);
+}
+
+template <class Visit> void BackgroundParticles::visit_returned(Particles& p, Visit visit) {
+  auto f = rows(p, p.f_p);
+  visit("f", f);
+}
 
 } // namespace sphfem

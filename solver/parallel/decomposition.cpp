@@ -59,10 +59,11 @@ EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group,
   for (Index i = 0; i < np; ++i)
     costs.particle[i] = StepCost::particle + StepCost::entry * entries(i);
 
-  // A node's cost (with its background particle's pair entries) is shared by its elements.
-  std::vector<double> node_cost(m.x_n.size(), StepCost::node);
+  // A background particle's pair entries cost in the particle phase; a node's cost is shared
+  // by its elements.
+  costs.background.resize(static_cast<std::size_t>(nb));
   for (Index k = 0; k < nb; ++k)
-    node_cost[static_cast<std::size_t>(m.background_nodes[k])] += StepCost::entry * entries(np + k);
+    costs.background[k] = StepCost::entry * entries(np + k);
   std::vector<int> holders(m.x_n.size(), 0);
   for (const Hex& e : m.hex_e)
     for (const Index n : e)
@@ -71,7 +72,7 @@ EntityCosts entity_costs(const Model& m, const std::vector<int>& body_group,
   for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
     double c = StepCost::element;
     for (const Index n : m.hex_e[e])
-      c += node_cost[static_cast<std::size_t>(n)] / holders[static_cast<std::size_t>(n)];
+      c += StepCost::node / holders[static_cast<std::size_t>(n)];
     costs.element[e] = c;
   }
   return costs;
@@ -160,7 +161,8 @@ std::vector<int> rcb_parts(Objects& o, int parts, std::vector<Decomposition::Reg
     set(zz, "NUM_GLOBAL_PARTS", std::to_string(parts));
     set(zz, "RETURN_LISTS", "PARTS");
     set(zz, "IMBALANCE_TOL", "1.01");
-    set(zz, "KEEP_CUTS", "1"); // for the regions
+    set(zz, "KEEP_CUTS", "1");    // for the regions
+    set(zz, "AVERAGE_CUTS", "1"); // half-way between the entities on either side
     Zoltan_Set_Num_Obj_Fn(zz, object_count, &o);
     Zoltan_Set_Obj_List_Fn(zz, object_list, &o);
     Zoltan_Set_Num_Geom_Fn(zz, dimension, &o);
@@ -231,26 +233,34 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   if (parts < 1)
     throw Error("decomposition: the number of parts must be at least 1, got " +
                 std::to_string(parts));
-  if (costs.particle.size() != m.x_p.size() || costs.element.size() != m.hex_e.size())
+  if (costs.particle.size() != m.x_p.size() || costs.element.size() != m.hex_e.size() ||
+      costs.background.size() != m.background_nodes.size())
     throw Error("decomposition: the entity costs do not match the model");
 
   Decomposition d;
   d.parts = parts;
   d.part_p.assign(m.x_p.size(), 0);
+  d.part_b.assign(m.background_nodes.size(), 0);
   d.part_e.assign(m.hex_e.size(), 0);
   constexpr double infinity = std::numeric_limits<double>::infinity();
   d.regions.assign(1, {Vec3::Constant(-infinity), Vec3::Constant(infinity)});
   if (parts > 1) {
     // The step's two phases, the elements' and then the particles', are separated by exchanges:
-    // each is balanced on its own (one RCB of the hexahedra, one of the particles), so that no
-    // rank idles through one phase while the others finish it.
+    // each is balanced on its own (one RCB of the hexahedra, one of the particles and the
+    // background particles), so that no rank idles through one phase while the others finish it.
     if (!m.x_p.empty()) {
       Objects o;
       for (std::size_t i = 0; i < m.x_p.size(); ++i) {
         o.x.push_back(m.x_p[i]);
         o.weight.push_back(static_cast<float>(costs.particle[i] * 1e9));
       }
-      d.part_p = rcb_parts(o, parts, d.particle_regions);
+      for (std::size_t k = 0; k < m.background_nodes.size(); ++k) {
+        o.x.push_back(m.x_n[static_cast<std::size_t>(m.background_nodes[k])]);
+        o.weight.push_back(static_cast<float>(costs.background[k] * 1e9));
+      }
+      const std::vector<int> part = rcb_parts(o, parts, d.particle_regions);
+      d.part_p.assign(part.begin(), part.begin() + static_cast<std::ptrdiff_t>(m.x_p.size()));
+      d.part_b.assign(part.begin() + static_cast<std::ptrdiff_t>(m.x_p.size()), part.end());
     }
     if (!m.hex_e.empty()) {
       Objects o;
@@ -283,6 +293,9 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   for (int& owner : d.part_n)
     if (owner == parts) // a node no element holds (none in a meshed model)
       owner = 0;
+  if (m.x_p.empty()) // background particles without particles: with their nodes
+    for (std::size_t k = 0; k < m.background_nodes.size(); ++k)
+      d.part_b[k] = d.part_n[static_cast<std::size_t>(m.background_nodes[k])];
   return d;
 }
 
@@ -315,7 +328,7 @@ std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const unsigned char> live_e) {
   const std::size_t np = d.part_p.size(), ne = d.part_e.size();
   if (neighbours_p.size() != np || live_p.size() != np || live_e.size() != ne ||
-      costs.element.size() != ne)
+      costs.element.size() != ne || costs.background.size() != d.part_b.size())
     throw Error("decomposition: the state's particles or elements are not the decomposition's");
   std::vector<double> cost(static_cast<std::size_t>(d.parts), 0.0);
   for (std::size_t i = 0; i < np; ++i)
@@ -325,6 +338,8 @@ std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
   for (std::size_t e = 0; e < ne; ++e)
     if (live_e[e])
       cost[static_cast<std::size_t>(d.part_e[e])] += costs.element[e];
+  for (std::size_t k = 0; k < d.part_b.size(); ++k)
+    cost[static_cast<std::size_t>(d.part_b[k])] += costs.background[k];
   return cost;
 }
 

@@ -8,7 +8,8 @@
 // (docs/scaling.md). Elements and their nodes go together: a node belongs to the
 // lowest part among the elements that hold it, and is "shared" when elements of several parts
 // hold it (its forces and masses are then summed across those parts, METHOD.md §3). Background
-// particles are the FE nodes' own (§4.1) and follow their node.
+// particles (§4.1) are filled from their node by the node's part but cost in the particle phase
+// (their pair loops): they are cut with the particles, at their node's position.
 //
 // The partition is computed by Zoltan on one process for all parts (MPI_COMM_SELF), so it is
 // the same on every rank and for every rank count that asks for the same number of parts, and
@@ -25,8 +26,9 @@ namespace sphfem {
 
 // Seconds of one thread per step, per entity.
 struct EntityCosts {
-  std::vector<double> particle; // per particle of the model
-  std::vector<double> element;  // per hexahedron, with its share of the nodes' cost
+  std::vector<double> particle;   // per particle of the model
+  std::vector<double> background; // per background particle: its pair-list entries
+  std::vector<double> element;    // per hexahedron, with its share of the nodes' cost
 };
 
 // Costs from the model's reference configuration: each particle's neighbour-list entries are
@@ -52,6 +54,7 @@ struct Decomposition {
   std::vector<Region> regions;          // per part: of its elements and nodes
   std::vector<Region> particle_regions; // per part: of its particles
   std::vector<int> part_p;              // per particle
+  std::vector<int> part_b;              // per background particle: the particles' cut
   std::vector<int> part_e;              // per element
   std::vector<int> part_n;              // per node: the lowest part among the elements holding it
   std::vector<unsigned char> shared_n;  // 1 when elements of more than one part hold the node
@@ -73,9 +76,9 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
 
 // Each part's cost per step at a later state of the run, the decomposition kept: a live
 // particle costs StepCost::particle + StepCost::entry × its current neighbour count, a live
-// element its cost in `costs`; killed particles and eroded elements cost nothing. Shows how the
-// work moves as a plug and debris leave. Spans indexed as the model's particles and elements;
-// throws sphfem::Error when a size differs.
+// element its cost in `costs`, a background particle its cost in `costs`; killed particles and
+// eroded elements cost nothing. Shows how the work moves as a plug and debris leave. Spans indexed
+// as the model's particles and elements; throws sphfem::Error when a size differs.
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const int> neighbours_p,
                                std::span<const unsigned char> live_p,

@@ -23,8 +23,9 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
   if (!(skin >= 0) || !std::isfinite(skin))
     throw Error("halo census: the skin must be a finite length ≥ 0 m, got " + std::to_string(skin));
   if (d.part_p.size() != m.x_p.size() || d.part_e.size() != m.hex_e.size() ||
-      d.part_n.size() != m.x_n.size() || costs.particle.size() != m.x_p.size() ||
-      costs.element.size() != m.hex_e.size())
+      d.part_n.size() != m.x_n.size() || d.part_b.size() != m.background_nodes.size() ||
+      costs.particle.size() != m.x_p.size() || costs.element.size() != m.hex_e.size() ||
+      costs.background.size() != m.background_nodes.size())
     throw Error("halo census: the decomposition or the costs are not of this model");
 
   HaloCensus census;
@@ -36,6 +37,8 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
     ++census.parts[q].particles;
     particle_cost[q] += costs.particle[i];
   }
+  for (std::size_t k = 0; k < m.background_nodes.size(); ++k)
+    particle_cost[static_cast<std::size_t>(d.part_b[k])] += costs.background[k];
   for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
     const auto q = static_cast<std::size_t>(d.part_e[e]);
     ++census.parts[q].elements;
@@ -67,6 +70,16 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
     }
   }
 
+  // A background particle filled on its node's part and stepped on another: received by the
+  // particles' part (a ghost point), its force sent back to the node's part (a foreign node).
+  for (std::size_t k = 0; k < m.background_nodes.size(); ++k) {
+    const int node_part = d.part_n[static_cast<std::size_t>(m.background_nodes[k])];
+    if (node_part != d.part_b[k]) {
+      ++census.parts[static_cast<std::size_t>(d.part_b[k])].ghost_points;
+      ++census.parts[static_cast<std::size_t>(node_part)].foreign_nodes;
+    }
+  }
+
   // Ghost points: the particles and background particles, each with its part, searched together.
   const std::size_t np = m.x_p.size(), nb = m.background_nodes.size();
   std::vector<Vec3> x(m.x_p);
@@ -76,7 +89,7 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
     const auto n = static_cast<std::size_t>(m.background_nodes[k]);
     x.push_back(m.x_n[n]);
     h.push_back(m.h_background[k]);
-    part.push_back(d.part_n[n]);
+    part.push_back(d.part_b[k]);
   }
   if (np > 0) {
     NeighbourSearch search;
@@ -89,7 +102,7 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
             (i < np || static_cast<std::size_t>(j) < np))
           ghost[static_cast<std::size_t>(part[i]) * x.size() + static_cast<std::size_t>(j)] = 1;
     for (std::size_t q = 0; q < census.parts.size(); ++q)
-      census.parts[q].ghost_points = static_cast<Index>(
+      census.parts[q].ghost_points += static_cast<Index>(
           std::count(ghost.begin() + static_cast<std::ptrdiff_t>(q * x.size()),
                      ghost.begin() + static_cast<std::ptrdiff_t>((q + 1) * x.size()), 1));
   }

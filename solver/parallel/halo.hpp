@@ -3,7 +3,9 @@
 // points — particles and background particles of other parts within h_i + h_j + skin of one of
 // its own (the kernel's reach, METHOD.md §2, plus the neighbour list's skin) — and its foreign
 // nodes — nodes of its elements that another part owns, whose partial forces and masses are
-// summed across parts. The halo fraction (ghost points + foreign nodes) / (own particles + own
+// summed across parts. A background particle stepped on another part than its node's counts as
+// a ghost point there (its filled values arrive) and as a foreign node of the node's part (its
+// force returns). The halo fraction (ghost points + foreign nodes) / (own particles + own
 // nodes) is what weak scaling must keep constant. Verified by
 // tests/parallel/decomposition_test.cpp.
 #pragma once
@@ -17,8 +19,8 @@ struct PartLoad {
   Index elements = 0;      // owned
   Index nodes = 0;         // owned
   Index shared_nodes = 0;  // owned nodes that elements of other parts hold too
-  Index ghost_points = 0;  // particles and background particles of other parts within reach
-  Index foreign_nodes = 0; // nodes of its elements that other parts own
+  Index ghost_points = 0;  // particles and background particles received (see above)
+  Index foreign_nodes = 0; // nodes of its elements that other parts own, nodes' returned forces
   double cost_s = 0;       // summed entity costs per step (one thread), s
 
   double halo_fraction() const;

@@ -1,8 +1,9 @@
 // This rank's share of a distributed run's particles (issue 28, point 3), for one neighbour
-// list: the rows it owns and steps (the decomposition's particles, by model id, and the background
-// rows of its nodes) and its halo — the rows its own rows' kinematics, material update and forces
-// read and other ranks own: their neighbours (a mirror image stands for its source), and what a
-// coupling adds (`read_also`: the surface contact's faces and slaves). The exchanges:
+// list: the rows it owns and steps (the decomposition's particles, by model id, and background
+// rows, both of the particles' cut) and its halo — the rows its own rows' kinematics, material
+// update and forces read and other ranks own: their neighbours (a mirror image stands for its
+// source), and what a coupling adds (`read_also`: the surface contact's faces and slaves). The
+// exchanges:
 // - `halo`: every field of the halo rows, twice in each particle phase: before the kinematics
 //   (positions and velocities have moved) and after the material update (density, stress and
 //   the rest that the forces read), so that no rank repeats another's material update;
@@ -31,8 +32,8 @@ struct ParticleShare {
   HaloExchange halo, all;
 };
 
-// owner_of_id: the rank of each model particle; owner_of_background: of each background row
-// (its node's). Collective when `collective`.
+// owner_of_id: the rank of each model particle; owner_of_background: of each background row in
+// the particle phase. Collective when `collective`.
 ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
                                   const MirrorParticles& mirrors, std::span<const int> owner_of_id,
                                   std::span<const int> owner_of_background, int rank,

@@ -5,7 +5,12 @@
 // - `halo`: after the nodes move, the positions and velocities of the computed elements' nodes
 //   that other ranks own (one message per neighbouring rank and step);
 // - `all_nodes`, `all_elements`: every slot this rank does not own, before output, so that
-//   energies, probes, frames and checkpoints are computed from the whole state as on one process.
+//   energies, probes, frames and checkpoints are computed from the whole state as on one process;
+// - background particles (METHOD.md §4.1) are filled from their node by the node's rank, which
+//   holds the node's elements, and stepped in the particle phase by the particles' cut's rank
+//   (Decomposition::part_b): `background_filled` sends the filled rows to that rank,
+//   `background_returned` their pair and contact forces back to the node's rank before they join
+//   the node's force. Indexed by background particle.
 // Every rank keeps the model's arrays in the model's numbering (the state is replicated; each
 // rank writes only its share of it). Verified by tests/parallel/subdomain_test.cpp and the
 // mpirun runs of tests/e2e/mpi_launch_test.cpp.
@@ -25,7 +30,7 @@ struct Subdomain {
   std::vector<Index> elements;       // computed here, ascending
   std::vector<Index> own_elements;   // the decomposition's elements of this rank, ascending
   std::vector<Index> halo_nodes;     // nodes of `elements` owned elsewhere, ascending
-  HaloExchange halo, all_nodes, all_elements;
+  HaloExchange halo, all_nodes, all_elements, background_filled, background_returned;
 };
 
 // The share of `rank` in `d`. Collective (the exchanges are agreed among all ranks) when the

@@ -125,7 +125,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   const bool writer = ranks::rank() == 0;
   std::optional<Decomposition> decomposition;
   if (ranks::distributed())
-    decomposition = decompose(model, entity_costs(model), ranks::size());
+    decomposition =
+        decompose(model, entity_costs(model, c.body_groups(), MirrorParticles(c)), ranks::size());
   if (writer)
     std::filesystem::create_directories(out);
   RunLog log(writer ? out / "run.log" : std::filesystem::path("/dev/null"), options.echo && writer);

@@ -111,14 +111,13 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
   if (decomposition != nullptr && decomposition->parts > 1) {
     subdomain_ = std::make_unique<Subdomain>(make_subdomain(*decomposition, model, ranks::rank()));
-    // A background particle goes with its node, a tied particle too: its merge with the node
-    // is then one rank's (a small constraint on the decomposition's balance).
-    std::vector<int> owner_of_id = decomposition->part_p, owner_of_background(background_.size());
+    // A tied particle goes with its node: its merge with the node is then one rank's (a small
+    // constraint on the decomposition's balance). A background particle is stepped by the
+    // particles' cut (its pair loops are particle-phase work) and filled by its node's rank.
+    std::vector<int> owner_of_id = decomposition->part_p;
     for (Index k = 0; k < ties_.size(); ++k)
       owner_of_id[ties_.particle_id(k)] = decomposition->part_n[ties_.node(k)];
-    for (Index k = 0; k < background_.size(); ++k)
-      owner_of_background[k] = decomposition->part_n[background_.node(k)];
-    particles_.distribute(std::move(owner_of_id), std::move(owner_of_background));
+    particles_.distribute(std::move(owner_of_id), decomposition->part_b);
   }
 }
 
@@ -246,6 +245,9 @@ void Simulation::step(double dt) {
     gather_.gather_forces(elements_, f);
   }
   background_.fill(nodes_, elements_, gather_, particles_.particles());
+  if (subdomain_)
+    subdomain_->background_filled.refresh_each(
+        [this](auto visit) { BackgroundParticles::visit_filled(particles_.particles(), visit); });
   particles_.update(dt);
   if (const std::vector<Index>* own = particles_.own_rows(); own != nullptr) {
     const ContactRanks ranks{own, particles_.owned_rows(), particles_.shares(),
@@ -256,6 +258,9 @@ void Simulation::step(double dt) {
     contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(),
                    elements_, dt);
   }
+  if (subdomain_)
+    subdomain_->background_returned.refresh_each(
+        [this](auto visit) { BackgroundParticles::visit_returned(particles_.particles(), visit); });
   background_.return_forces(particles_.particles(), f);
   time_ += dt;
   dt_previous_ = dt;

@@ -188,6 +188,38 @@ TEST(Decomposition, EachPhaseIsBalancedOnItsOwn) {
   }
 }
 
+TEST(Decomposition, BackgroundParticlesAreCutWithTheParticles) {
+  REQUIRE_PARTITIONER();
+  // The lattice of 10 × 6 × 6 particles glued to a block of hexahedra beside it: the block's two
+  // node planes within the kernel's reach are background particles. Their pair loops are
+  // particle-phase work: each lies in its part's particle region, and the particle phase (the
+  // particles' and the background particles' costs) is balanced on its own.
+  Model m;
+  add_lattice(m, 10, 6, 6);
+  add_block(m, 10, 6, 6, Vec3(10 * mm, 0, 0));
+  for (Index n = 0; n < static_cast<Index>(m.x_n.size()); ++n)
+    if (m.x_n[n].x() < 11.5 * mm) {
+      m.background_nodes.push_back(n);
+      m.h_background.push_back(1.2 * mm);
+    }
+  ASSERT_EQ(m.background_nodes.size(), 2u * 7 * 7);
+  const EntityCosts c = entity_costs(m);
+  ASSERT_EQ(c.background.size(), m.background_nodes.size());
+  EXPECT_GT(c.background.front(), 0.0); // it has real neighbours
+  const Decomposition d = decompose(m, c, 2);
+  ASSERT_EQ(d.part_b.size(), m.background_nodes.size());
+  std::vector<double> phase(2, 0.0);
+  for (std::size_t i = 0; i < m.x_p.size(); ++i)
+    phase[static_cast<std::size_t>(d.part_p[i])] += c.particle[i];
+  for (std::size_t k = 0; k < m.background_nodes.size(); ++k) {
+    const Vec3& x = m.x_n[static_cast<std::size_t>(m.background_nodes[k])];
+    EXPECT_EQ(d.particle_part_at(x, d.part_b[k]), d.part_b[k]) << "background particle " << k;
+    phase[static_cast<std::size_t>(d.part_b[k])] += c.background[k];
+  }
+  EXPECT_NEAR(phase[0], phase[1], 0.05 * (phase[0] + phase[1]) / 2);
+  EXPECT_LT(halo_census(m, c, d, 0.0).imbalance, 1.05);
+}
+
 TEST(Decomposition, ThreePartsRepeatBitForBitAndCoverEverything) {
   REQUIRE_PARTITIONER();
   Model m;
