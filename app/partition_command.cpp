@@ -3,6 +3,7 @@
 #include "app/partition_command.hpp"
 
 #include "post/run_balance.hpp"
+#include "solver/coupling/interface_ties.hpp"
 #include "solver/io/atomic_file.hpp"
 #include "solver/io/model_vtu.hpp"
 #include "solver/parallel/decomposition.hpp"
@@ -89,7 +90,10 @@ CLI::App* add_partition_command(CLI::App& app, PartitionCommandOptions& o) {
 
 void run_partition_command(const PartitionCommandOptions& o, const Case& c, const Model& model) {
   const EntityCosts costs = entity_costs(model, c.body_groups(), MirrorParticles(c));
-  const Decomposition d = decompose(model, costs, o.ranks);
+  Decomposition d = decompose(model, costs, o.ranks);
+  const InterfaceTies ties(c, model); // as the run shares them
+  for (Index k = 0; k < ties.size(); ++k)
+    d.tie(ties.particle_id(k), ties.node(k));
   const HaloCensus census = halo_census(model, costs, d, run_skin(c, model));
 
   nlohmann::json parts = nlohmann::json::array();

@@ -64,6 +64,12 @@ struct Decomposition {
   int part_at(const Vec3& x, int current = -1) const;
   // The same for a particle, by particle_regions.
   int particle_part_at(const Vec3& x, int current = -1) const;
+
+  // A tied particle (model id) and its node (interface ties, METHOD.md §4.2) move as one: the
+  // node joins the particle's part, which then also computes the elements around it, so that
+  // the particles' cut keeps its balance (with the particle given to the node's part instead,
+  // the Børvik core's tied layer put 140 of its 2 601 particles on one of two ranks).
+  void tie(Index particle, Index node) { part_n[node] = part_p[particle]; }
 };
 
 // True when this build can decompose (MPI and Zoltan found at configuration).

@@ -110,14 +110,14 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
       deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
   if (decomposition != nullptr && decomposition->parts > 1) {
-    subdomain_ = std::make_unique<Subdomain>(make_subdomain(*decomposition, model, ranks::rank()));
-    // A tied particle goes with its node: its merge with the node is then one rank's (a small
-    // constraint on the decomposition's balance). A background particle is stepped by the
-    // particles' cut (its pair loops are particle-phase work) and filled by its node's rank.
-    std::vector<int> owner_of_id = decomposition->part_p;
+    // A tied node goes with its particle: the tie's merge is then one rank's. A background
+    // particle is stepped by the particles' cut (its pair loops are particle-phase work) and
+    // filled by its node's rank.
+    Decomposition d = *decomposition;
     for (Index k = 0; k < ties_.size(); ++k)
-      owner_of_id[ties_.particle_id(k)] = decomposition->part_n[ties_.node(k)];
-    particles_.distribute(std::move(owner_of_id), decomposition->part_b);
+      d.tie(ties_.particle_id(k), ties_.node(k));
+    subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
+    particles_.distribute(d.part_p, d.part_b);
   }
 }
 

@@ -220,6 +220,31 @@ TEST(Decomposition, BackgroundParticlesAreCutWithTheParticles) {
   EXPECT_LT(halo_census(m, c, d, 0.0).imbalance, 1.05);
 }
 
+TEST(Decomposition, ATiedNodeGoesWithItsParticle) {
+  REQUIRE_PARTITIONER();
+  // A tie (METHOD.md §4.2) between a particle of one part and a node of the other: the node
+  // joins the particle's part, whose share then computes every element around it.
+  Model m;
+  add_lattice(m, 10, 6, 6);
+  add_block(m, 10, 6, 6, Vec3(10 * mm, 0, 0));
+  Decomposition d = decompose(m, entity_costs(m), 2);
+  const auto particle =
+      static_cast<Index>(std::find(d.part_p.begin(), d.part_p.end(), 1) - d.part_p.begin());
+  const auto node =
+      static_cast<Index>(std::find(d.part_n.begin(), d.part_n.end(), 0) - d.part_n.begin());
+  ASSERT_LT(particle, static_cast<Index>(m.x_p.size()));
+  ASSERT_LT(node, static_cast<Index>(m.x_n.size()));
+  d.tie(particle, node);
+  EXPECT_EQ(d.part_n[node], 1);
+  const Subdomain one = make_subdomain(d, m, 1, false), zero = make_subdomain(d, m, 0, false);
+  EXPECT_TRUE(one.owns_n[node]);
+  EXPECT_FALSE(zero.owns_n[node]);
+  for (Index e = 0; e < static_cast<Index>(m.hex_e.size()); ++e)
+    if (std::ranges::find(m.hex_e[e], node) != m.hex_e[e].end()) {
+      EXPECT_TRUE(std::ranges::binary_search(one.elements, e)) << "element " << e;
+    }
+}
+
 TEST(Decomposition, ThreePartsRepeatBitForBitAndCoverEverything) {
   REQUIRE_PARTITIONER();
   Model m;
