@@ -7,7 +7,7 @@
 # count repeats work, two ranks that execute unlike counts are unbalanced. Prints a Markdown
 # table: G instructions per phase (the functions named below, exclusive counts) and in all.
 #   bench/mpi_instructions.sh [SPHFEM=build/app/sphfem] [OUT=/tmp/sphfem_mpi_instructions]
-# About 4 min here (valgrind runs the step ≈ 50 × slower).
+# About 2 min here (valgrind runs the step ≈ 50 × slower).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 sphfem=${1:-$here/../build/app/sphfem}
