@@ -4,9 +4,11 @@
 // update and forces read and other ranks own: their neighbours (a mirror image stands for its
 // source), and what a coupling adds (`read_also`: the surface contact's faces and slaves). The
 // exchanges:
-// - `halo`: every field of the halo rows, twice in each particle phase: before the kinematics
-//   (positions and velocities have moved) and after the material update (density, stress and
-//   the rest that the forces read), so that no rank repeats another's material update;
+// - `halo`: the halo rows, twice in each particle phase: before the kinematics what moved
+//   (Particles::for_each_moved_field: positions, velocities, forces, the background fill) and
+//   after the material update what it changed (for_each_updated_field: density, stress, kill
+//   state and the rest that the forces read), so that no rank repeats another's material update;
+//   each carries what the owners wrote since the other (together a third of a row's bytes);
 // - `all`: every row this rank does not own, before a neighbour-list rebuild (every rank then
 //   sorts and lists all particles as one process does) and before output.
 // Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.

@@ -217,7 +217,7 @@ void ParticleSystem::update(double dt) {
   auto& p = particles_;
   const auto every_field = [&p](auto visit) { p.for_each_field(visit); };
   if (share_) {
-    share_->halo.refresh_each(every_field); // what this rank's computations read
+    share_->halo.refresh_each([&p](auto visit) { p.for_each_moved_field(visit); });
     // The images of rows just received: on one process their stress and kill state were
     // copied at the end of the last step, after their sources' material update.
     mirror_.refresh_stress(p, p.rows());
@@ -238,7 +238,7 @@ void ParticleSystem::update(double dt) {
     for (Index i : share_->own)
       mine += i < p.size() && p.kill_p[i] == Kill::Tension;
     p.excluded = static_cast<Index>(ranks::sum_in_rank_order(std::array{mine})[0]);
-    share_->halo.refresh_each(every_field); // the halo's new density and stress
+    share_->halo.refresh_each([&p](auto visit) { p.for_each_updated_field(visit); });
   }
   mirror_.refresh_stress(p, p.rows());
   forces(dt);

@@ -156,6 +156,44 @@ struct Particles {
     visit("fm_p", fm_p);
     visit("phi_p", phi_p);
   }
+
+  // What a distributed run's halo refresh carries (parallel/particle_share.hpp), in two parts
+  // that together hold every field another rank reads; each carries what the owners wrote since
+  // the other. Before the kinematics: what the forces, contact, kick, ties, boundary conditions,
+  // drift and the background fill (x, v, u, m, ρ, p, S, f of background rows) wrote.
+  template <class Visit> void for_each_moved_field(Visit visit) {
+    visit("x_p", x_p);
+    visit("v_p", v_p);
+    visit("u_p", u_p);
+    visit("m_p", m_p);
+    visit("rho_p", rho_p);
+    visit("S_p", S_p);
+    visit("p_p", p_p);
+    visit("e_p", e_p);
+    visit("f_p", f_p);
+    visit("fc_p", fc_p);
+    visit("fm_p", fm_p);
+    visit("heat_p", heat_p);
+    visit("phi_p", phi_p);
+    visit("contact_s_p", contact_s_p);
+    visit("ignored_overlap_p", ignored_overlap_p);
+  }
+  // Before the forces: what the kinematics and the material update wrote and the forces, the
+  // mirror images or the contact read (L, G, dρ/dt, the XSPH correction and the neighbour count
+  // stay with the owner).
+  template <class Visit> void for_each_updated_field(Visit visit) {
+    visit("rho_p", rho_p);
+    visit("h_p", h_p);
+    visit("S_p", S_p);
+    visit("p_p", p_p);
+    visit("e_p", e_p);
+    visit("de_p", de_p);
+    visit("C_p", C_p);
+    visit("R_p", R_p);
+    visit("shear_p", shear_p);
+    visit("point_p", point_p);
+    visit("kill_p", kill_p);
+  }
 };
 
 } // namespace sphfem
