@@ -1,5 +1,6 @@
 #include "solver/parallel/subdomain.hpp"
 
+#include <algorithm>
 #include <numeric>
 
 namespace sphfem {
@@ -15,13 +16,11 @@ Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool 
     }
   std::vector<unsigned char> read(n, 0);
   for (Index k = 0; k < ne; ++k) {
-    if (d.part_e[k] == rank)
-      s.own_elements.push_back(k);
-    bool computed = d.part_e[k] == rank;
-    for (Index i : m.hex_e[k])
-      computed = computed || s.owns_n[i];
-    if (!computed)
+    if (d.part_e[k] != rank) {
+      if (std::ranges::any_of(m.hex_e[k], [&s](Index i) { return s.owns_n[i] != 0; }))
+        s.foreign_elements.push_back(k);
       continue;
+    }
     s.elements.push_back(k);
     for (Index i : m.hex_e[k])
       read[i] = 1;
@@ -31,6 +30,7 @@ Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool 
       s.halo_nodes.push_back(i);
   if (collective) {
     s.halo = HaloExchange(d.part_n, s.halo_nodes);
+    s.element_forces = HaloExchange(d.part_e, s.foreign_elements);
     std::vector<Index> every_node(n), every_element(ne);
     std::iota(every_node.begin(), every_node.end(), Index{0});
     std::iota(every_element.begin(), every_element.end(), Index{0});

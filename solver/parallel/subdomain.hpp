@@ -1,9 +1,14 @@
 // This rank's share of a distributed run's finite elements (issue 28, point 3): the nodes it
-// owns (the decomposition's), the elements it computes — its own and every element holding one
-// of its nodes, so that each owned node's force is summed here from all its elements, in the
-// same order as on one process — and the exchanges that keep the rest current:
-// - `halo`: after the nodes move, the positions and velocities of the computed elements' nodes
-//   that other ranks own (one message per neighbouring rank and step);
+// owns (the decomposition's), the elements it computes (the decomposition's: each element once),
+// and the exchanges that keep the rest current:
+// - `halo`: after the nodes move, the positions and velocities of its elements' nodes that other
+//   ranks own (one message per neighbouring rank and step);
+// - `element_forces`: after the element update, the forces on its nodes of the other ranks'
+//   elements that hold one of its nodes (with what a background particle's fill reads of them:
+//   HexElements::for_each_nodal_field), so that each owned node's force is summed here from all
+//   its elements in the same order as on one process — each element computed once (computing
+//   them on every rank holding one of their nodes cost the Børvik shot's rank 0 5–8% more
+//   elements than its share);
 // - `all_nodes`, `all_elements`: every slot this rank does not own, before output, so that
 //   energies, probes, frames and checkpoints are computed from the whole state as on one process;
 // - background particles (METHOD.md §4.1) are filled from their node by the node's rank, which
@@ -12,7 +17,7 @@
 //   `background_returned` their pair and contact forces back to the node's rank before they join
 //   the node's force. Indexed by background particle.
 // Every rank keeps the model's arrays in the model's numbering (the state is replicated; each
-// rank writes only its share of it). Verified by tests/parallel/subdomain_test.cpp and the
+// rank writes only its share of it). Verified by tests/parallel/decomposition_test.cpp and the
 // mpirun runs of tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
@@ -25,12 +30,13 @@
 namespace sphfem {
 
 struct Subdomain {
-  std::vector<Index> nodes;          // owned, ascending
-  std::vector<unsigned char> owns_n; // per node: 1 when owned here
-  std::vector<Index> elements;       // computed here, ascending
-  std::vector<Index> own_elements;   // the decomposition's elements of this rank, ascending
-  std::vector<Index> halo_nodes;     // nodes of `elements` owned elsewhere, ascending
-  HaloExchange halo, all_nodes, all_elements, background_filled, background_returned;
+  std::vector<Index> nodes;            // owned, ascending
+  std::vector<unsigned char> owns_n;   // per node: 1 when owned here
+  std::vector<Index> elements;         // computed here (the decomposition's), ascending
+  std::vector<Index> foreign_elements; // other ranks' elements holding an owned node, ascending
+  std::vector<Index> halo_nodes;       // nodes of `elements` owned elsewhere, ascending
+  HaloExchange halo, element_forces, all_nodes, all_elements, background_filled,
+      background_returned;
 };
 
 // The share of `rank` in `d`. Collective (the exchanges are agreed among all ranks) when the

@@ -42,6 +42,13 @@ struct HexElements {
     visit("e_hg_e", e_hg_e), visit("hg_e", hg_e), visit("hg_mode_e", hg_mode_e), visit("f_e", f_e);
     visit("point_e", point_e), visit("eroded_e", eroded_e);
   }
+  // What the nodes read of an element after its update (a distributed run sends it to the
+  // ranks owning its nodes, parallel/subdomain.hpp): its forces on them, and the stress, volume
+  // and erosion flag of the nodal stress (fem/nodal_stress.hpp) that background particles take.
+  template <class Visit> void for_each_nodal_field(Visit visit) {
+    visit("f_e", f_e), visit("S_e", S_e), visit("p_e", p_e), visit("V_e", V_e);
+    visit("eroded_e", eroded_e);
+  }
   // Total stress σ = S − (p + q) I, tension positive.
   Mat3 sigma(Index e) const { return S_e[e] - (p_e[e] + q_e[e]) * Mat3::Identity(); }
 };

@@ -130,7 +130,7 @@ template <class F> void Simulation::for_own_nodes(F f) {
 
 void Simulation::share_erosion() {
   double mine = 0;
-  for (const Index k : subdomain_->own_elements)
+  for (const Index k : subdomain_->elements)
     mine += elements_.eroded_e[k] != 0;
   const double eroded = ranks::sum_in_rank_order(std::array{mine})[0];
   if (eroded == eroded_shared_)
@@ -237,6 +237,8 @@ void Simulation::step(double dt) {
   if (subdomain_) {
     dt_elements_ = ranks::min(
         update_hex_elements({x, v, dt, &subdomain_->elements}, materials_, fem_, elements_));
+    subdomain_->element_forces.refresh_each(
+        [this](auto visit) { elements_.for_each_nodal_field(visit); });
     gather_.gather_forces(elements_, f, &subdomain_->nodes);
     if (contact_.follows_erosion())
       share_erosion();

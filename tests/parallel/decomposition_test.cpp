@@ -223,7 +223,8 @@ TEST(Decomposition, BackgroundParticlesAreCutWithTheParticles) {
 TEST(Decomposition, ATiedNodeGoesWithItsParticle) {
   REQUIRE_PARTITIONER();
   // A tie (METHOD.md §4.2) between a particle of one part and a node of the other: the node
-  // joins the particle's part, whose share then computes every element around it.
+  // joins the particle's part, whose share then sums the forces of every element around it
+  // (received from the elements' part).
   Model m;
   add_lattice(m, 10, 6, 6);
   add_block(m, 10, 6, 6, Vec3(10 * mm, 0, 0));
@@ -241,7 +242,8 @@ TEST(Decomposition, ATiedNodeGoesWithItsParticle) {
   EXPECT_FALSE(zero.owns_n[node]);
   for (Index e = 0; e < static_cast<Index>(m.hex_e.size()); ++e)
     if (std::ranges::find(m.hex_e[e], node) != m.hex_e[e].end()) {
-      EXPECT_TRUE(std::ranges::binary_search(one.elements, e)) << "element " << e;
+      EXPECT_TRUE(std::ranges::binary_search(one.foreign_elements, e)) << "element " << e;
+      EXPECT_EQ(d.part_e[e], 0) << "element " << e;
     }
 }
 
@@ -300,36 +302,40 @@ TEST(Decomposition, KilledAndErodedEntitiesLeaveTheirPartsCost) {
   EXPECT_THROW(part_costs(d, c, std::vector<int>(3, 0), all_p, live_e), Error);
 }
 
-TEST(Subdomain, ARankComputesEveryElementAroundItsNodesAndReadsTheirNodes) {
+TEST(Subdomain, ARankComputesItsElementsAndReceivesTheForcesOfTheOthersOnItsNodes) {
   // A 4 × 2 × 2 block of equal elements cut in two at x = 2 mm: the 9 nodes on the cut belong
-  // to the lower part. So it owns 27 nodes and computes its 8 elements and the other part's 4
-  // at the cut (12), reading the 9 nodes at x = 3 mm; the upper part owns 18, computes its own
-  // 8 and reads the 9 on the cut.
+  // to the lower part. So it owns 27 nodes, computes its 8 elements and receives the forces of
+  // the other part's 4 at the cut, reading no node; the upper part owns 18, computes its own 8,
+  // receives nothing and reads the 9 on the cut.
   REQUIRE_PARTITIONER();
   Model m;
   add_block(m, 4, 2, 2);
   const Decomposition d = decompose(m, entity_costs(m), 2);
   const int lower = d.part_e[0]; // the element at the origin
-  std::vector<int> owners(m.x_n.size(), 0);
+  std::vector<int> owners(m.x_n.size(), 0), computed(m.hex_e.size(), 0);
   for (int part : {0, 1}) {
     const Subdomain s = make_subdomain(d, m, part, false);
     const bool is_lower = part == lower;
     EXPECT_EQ(s.nodes.size(), is_lower ? 27u : 18u);
-    EXPECT_EQ(s.elements.size(), is_lower ? 12u : 8u);
-    EXPECT_EQ(s.halo_nodes.size(), 9u);
+    EXPECT_EQ(s.elements.size(), 8u);
+    EXPECT_EQ(s.foreign_elements.size(), is_lower ? 4u : 0u);
+    EXPECT_EQ(s.halo_nodes.size(), is_lower ? 0u : 9u);
     for (Index i : s.halo_nodes)
-      EXPECT_NEAR(m.x_n[i].x(), is_lower ? 3 * mm : 2 * mm, 1e-12);
+      EXPECT_NEAR(m.x_n[i].x(), 2 * mm, 1e-12);
     for (Index i : s.nodes)
       ++owners[i];
-    // Every element holding an owned node is computed here.
+    for (Index k : s.elements)
+      ++computed[k];
+    // Every element holding an owned node is computed here or sends its forces here.
     for (Index k = 0; k < static_cast<Index>(m.hex_e.size()); ++k) {
       const bool holds = std::ranges::any_of(m.hex_e[k], [&](Index i) { return s.owns_n[i]; });
-      if (holds || d.part_e[k] == part) {
-        EXPECT_TRUE(std::ranges::binary_search(s.elements, k)) << k;
-      }
+      EXPECT_EQ(std::ranges::binary_search(s.elements, k), d.part_e[k] == part) << k;
+      EXPECT_EQ(std::ranges::binary_search(s.foreign_elements, k), holds && d.part_e[k] != part)
+          << k;
     }
   }
-  EXPECT_TRUE(std::ranges::all_of(owners, [](int n) { return n == 1; })); // each node once
+  EXPECT_TRUE(std::ranges::all_of(owners, [](int n) { return n == 1; }));   // each node once
+  EXPECT_TRUE(std::ranges::all_of(computed, [](int n) { return n == 1; })); // each element once
 }
 
 TEST(ParticleShare, ARankReadsItsParticlesNeighbours) {
