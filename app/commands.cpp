@@ -39,7 +39,8 @@ struct CommonOptions {
   std::vector<std::string> overrides;
   int threads = 0;
   bool quiet = false;
-  std::string restart; // solve and run
+  std::string restart;     // solve and run
+  double rebalance = 1.02; // solve and run, distributed
 };
 
 void add_common(CLI::App& cmd, CommonOptions& o) {
@@ -54,10 +55,15 @@ void add_common(CLI::App& cmd, CommonOptions& o) {
   cmd.add_flag("-q,--quiet", o.quiet, "no log or progress on stderr (run.log still written)");
 }
 
-void add_restart(CLI::App& cmd, CommonOptions& o) {
+void add_solve_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--restart", o.restart,
                  "continue from a checkpoint (OUT/checkpoint.h5): the case's physics must be the "
                  "checkpoint's; time.end and output keys may change");
+  cmd.add_option("--rebalance", o.rebalance,
+                 "under mpirun: share the work anew when the busiest rank's cost per step passes "
+                 "this multiple of the mean (checked at each history row; 0: never)")
+      ->default_val(1.02)
+      ->check(CLI::NonNegativeNumber);
 }
 
 void set_threads(int threads) {
@@ -171,7 +177,7 @@ int run_command_line(int argc, char** argv) {
   auto* solve_cmd = app.add_subcommand(
       "solve", "run the simulation (meshes first if OUT/model.h5 is missing or stale)");
   add_common(*solve_cmd, solve_o);
-  add_restart(*solve_cmd, solve_o);
+  add_solve_options(*solve_cmd, solve_o);
   solve_cmd->footer(
       "A run writes OUT/checkpoint.h5 at its end, every output.checkpoint.steps steps and\n"
       "output.checkpoint.wall_s seconds (default 600), and when stopped by SIGINT/SIGTERM\n"
@@ -180,7 +186,7 @@ int run_command_line(int argc, char** argv) {
       "The continued run writes what an uninterrupted one would, bit for bit.");
   auto* run = app.add_subcommand("run", "mesh + solve + report: the one-command pipeline");
   add_common(*run, run_o);
-  add_restart(*run, run_o);
+  add_solve_options(*run, run_o);
   run->footer("With --restart it continues the checkpoint's run (as solve does, re-meshing only\n"
               "if OUT/model.h5 is missing or stale) and then writes the report.");
 
@@ -241,7 +247,7 @@ int run_command_line(int argc, char** argv) {
       check_restart_case(o.restart, read_checkpoint_meta(o.restart), c);
     const bool remesh = pipeline && o.restart.empty();
     const Model model = model_of_run(c, out, remesh, o.quiet || !speaker);
-    const auto summary = solve(c, model, {out, !o.quiet && speaker, o.restart});
+    const auto summary = solve(c, model, {out, !o.quiet && speaker, o.restart, o.rebalance});
     if (!speaker)
       return 0;
     print_outputs(out, summary);

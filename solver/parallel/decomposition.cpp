@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #ifdef SPHFEM_HAVE_ZOLTAN
@@ -322,25 +323,61 @@ int Decomposition::particle_part_at(const Vec3& x, int current) const {
   return part_in(particle_regions, x, current);
 }
 
+EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbours_p,
+                          std::span<const unsigned char> live_p,
+                          std::span<const unsigned char> live_e) {
+  const std::size_t np = costs.particle.size(), ne = costs.element.size();
+  if (neighbours_p.size() != np || live_p.size() != np || live_e.size() != ne)
+    throw Error("decomposition: the state's particles or elements are not the decomposition's");
+  EntityCosts now = costs;
+  for (std::size_t i = 0; i < np; ++i)
+    now.particle[i] = live_p[i] ? StepCost::particle + StepCost::entry * neighbours_p[i] : 0.0;
+  for (std::size_t e = 0; e < ne; ++e)
+    if (!live_e[e])
+      now.element[e] = 0;
+  return now;
+}
+
+namespace {
+
+struct PhaseCosts {
+  std::vector<double> particle, element; // per part
+};
+
+PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs) {
+  if (costs.particle.size() != d.part_p.size() || costs.element.size() != d.part_e.size() ||
+      costs.background.size() != d.part_b.size())
+    throw Error("decomposition: the state's particles or elements are not the decomposition's");
+  PhaseCosts c{std::vector<double>(static_cast<std::size_t>(d.parts), 0.0),
+               std::vector<double>(static_cast<std::size_t>(d.parts), 0.0)};
+  for (std::size_t i = 0; i < d.part_p.size(); ++i)
+    c.particle[static_cast<std::size_t>(d.part_p[i])] += costs.particle[i];
+  for (std::size_t k = 0; k < d.part_b.size(); ++k)
+    c.particle[static_cast<std::size_t>(d.part_b[k])] += costs.background[k];
+  for (std::size_t e = 0; e < d.part_e.size(); ++e)
+    c.element[static_cast<std::size_t>(d.part_e[e])] += costs.element[e];
+  return c;
+}
+
+} // namespace
+
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const int> neighbours_p,
                                std::span<const unsigned char> live_p,
                                std::span<const unsigned char> live_e) {
-  const std::size_t np = d.part_p.size(), ne = d.part_e.size();
-  if (neighbours_p.size() != np || live_p.size() != np || live_e.size() != ne ||
-      costs.element.size() != ne || costs.background.size() != d.part_b.size())
-    throw Error("decomposition: the state's particles or elements are not the decomposition's");
-  std::vector<double> cost(static_cast<std::size_t>(d.parts), 0.0);
-  for (std::size_t i = 0; i < np; ++i)
-    if (live_p[i])
-      cost[static_cast<std::size_t>(d.part_p[i])] +=
-          StepCost::particle + StepCost::entry * neighbours_p[i];
-  for (std::size_t e = 0; e < ne; ++e)
-    if (live_e[e])
-      cost[static_cast<std::size_t>(d.part_e[e])] += costs.element[e];
-  for (std::size_t k = 0; k < d.part_b.size(); ++k)
-    cost[static_cast<std::size_t>(d.part_b[k])] += costs.background[k];
-  return cost;
+  PhaseCosts c = phase_costs(d, current_costs(costs, neighbours_p, live_p, live_e));
+  for (std::size_t q = 0; q < c.particle.size(); ++q)
+    c.particle[q] += c.element[q];
+  return c.particle;
+}
+
+double phase_imbalance(const Decomposition& d, const EntityCosts& costs) {
+  const PhaseCosts c = phase_costs(d, costs);
+  const auto imbalance = [&d](const std::vector<double>& cost) {
+    const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
+    return total > 0 ? *std::max_element(cost.begin(), cost.end()) * d.parts / total : 1.0;
+  };
+  return std::max(imbalance(c.particle), imbalance(c.element));
 }
 
 } // namespace sphfem

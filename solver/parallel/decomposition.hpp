@@ -80,14 +80,25 @@ bool decomposition_available();
 // Zoltan.
 Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
 
-// Each part's cost per step at a later state of the run, the decomposition kept: a live
-// particle costs StepCost::particle + StepCost::entry × its current neighbour count, a live
-// element its cost in `costs`, a background particle its cost in `costs`; killed particles and
-// eroded elements cost nothing. Shows how the work moves as a plug and debris leave. Spans indexed
-// as the model's particles and elements; throws sphfem::Error when a size differs.
+// Each entity's cost per step at a later state of the run: a live particle costs
+// StepCost::particle + StepCost::entry × its current neighbour count, a live element its cost in
+// `costs`, a background particle its cost in `costs`; killed particles and eroded elements cost
+// nothing. Spans indexed as the model's particles and elements; throws sphfem::Error when a size
+// differs.
+EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbours_p,
+                          std::span<const unsigned char> live_p,
+                          std::span<const unsigned char> live_e);
+
+// Each part's cost per step at a later state of the run (current_costs), the decomposition kept.
+// Shows how the work moves as a plug and debris leave.
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const int> neighbours_p,
                                std::span<const unsigned char> live_p,
                                std::span<const unsigned char> live_e);
+
+// The largest part's cost over the mean, the worse of the two phases' (the particles' with the
+// background particles, the elements'): what a step waits for. Throws sphfem::Error when the
+// costs are not of the decomposition's model.
+double phase_imbalance(const Decomposition& d, const EntityCosts& costs);
 
 } // namespace sphfem

@@ -124,9 +124,11 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   // whole by Simulation::gather_state before each output) and speaks.
   const bool writer = ranks::rank() == 0;
   std::optional<Decomposition> decomposition;
-  if (ranks::distributed())
-    decomposition =
-        decompose(model, entity_costs(model, c.body_groups(), MirrorParticles(c)), ranks::size());
+  EntityCosts costs;
+  if (ranks::distributed()) {
+    costs = entity_costs(model, c.body_groups(), MirrorParticles(c));
+    decomposition = decompose(model, costs, ranks::size());
+  }
   if (writer)
     std::filesystem::create_directories(out);
   RunLog log(writer ? out / "run.log" : std::filesystem::path("/dev/null"), options.echo && writer);
@@ -227,6 +229,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   const auto start = std::chrono::steady_clock::now();
   auto last_checkpoint = start;
   const long long first_step = sim.steps();
+  int rebalances = 0;
   double dt = dt0;
   while (sim.time() < c.time.end - eps) {
     dt = std::min(sim.stable_dt(), c.time.end - sim.time());
@@ -260,8 +263,19 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     }
     const bool checkpoint_due =
         !last && ((every.steps > 0 && sim.steps() % every.steps == 0) || wall_due);
-    if (history_due || frame_due || signal != 0 || checkpoint_due)
+    if (history_due || frame_due || signal != 0 || checkpoint_due) {
       sim.gather_state();
+      if (decomposition && options.rebalance > 0) {
+        // The whole state is on every rank now: the moment to share it out anew.
+        const Rebalance r = sim.rebalance(model, costs, options.rebalance);
+        if (r.done) {
+          ++rebalances;
+          log.line("t = " + format("%.4e", sim.time()) + " s: rebalanced, imbalance " +
+                   format("%.3f", r.before) + " → " + format("%.3f", r.after) +
+                   " (largest rank's cost per step / mean, entities' current costs)");
+        }
+      }
+    }
     if (history_due) {
       const Energies e = sim.energies();
       SPHFEM_CHECK(std::isfinite(e.total()), "energy is not finite at t = ", sim.time(),
@@ -379,6 +393,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     const double entity_steps = double(particles + elements) * double(sim.steps() - first_step);
     summary["ranks"] = ranks::size();
     summary["halo_bytes_per_entity_step"] = entity_steps > 0 ? sent / entity_steps : 0.0;
+    summary["rebalances"] = rebalances;
     log.line("ranks exchanged " + format("%.3g", sent / 1e6) + " MB (" +
              format("%.3g", entity_steps > 0 ? sent / entity_steps : 0.0) +
              " B per entity-step) for their halos");

@@ -25,6 +25,9 @@ struct SolveOptions {
   std::filesystem::path out_dir;
   bool echo = true;              // log and progress on stderr
   std::filesystem::path restart; // a checkpoint.h5 to continue from (empty: start at t = 0)
+  // A distributed run: a new decomposition when the largest rank's cost per step passes this
+  // multiple of the mean (checked at each history row, frame and checkpoint; 0: never).
+  double rebalance = 1.02;
 };
 
 // A run stopped by SIGINT or SIGTERM after writing its checkpoint.

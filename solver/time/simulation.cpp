@@ -109,16 +109,65 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   momentum_scale_ =
       deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
-  if (decomposition != nullptr && decomposition->parts > 1) {
-    // A tied node goes with its particle: the tie's merge is then one rank's. A background
-    // particle is stepped by the particles' cut (its pair loops are particle-phase work) and
-    // filled by its node's rank.
-    Decomposition d = *decomposition;
-    for (Index k = 0; k < ties_.size(); ++k)
-      d.tie(ties_.particle_id(k), ties_.node(k));
-    subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
-    particles_.distribute(d.part_p, d.part_b);
+  if (decomposition != nullptr && decomposition->parts > 1)
+    take_share(*decomposition, model);
+}
+
+void Simulation::take_share(Decomposition d, const Model& model) {
+  // A tied node goes with its particle: the tie's merge is then one rank's. A background
+  // particle is stepped by the particles' cut (its pair loops are particle-phase work) and
+  // filled by its node's rank.
+  for (Index k = 0; k < ties_.size(); ++k)
+    d.tie(ties_.particle_id(k), ties_.node(k));
+  if (subdomain_)
+    halo_bytes_ += subdomain_->halo.bytes_sent() + subdomain_->element_forces.bytes_sent() +
+                   subdomain_->background_filled.bytes_sent() +
+                   subdomain_->background_returned.bytes_sent();
+  subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
+  particles_.distribute(d.part_p, d.part_b);
+  decomposition_ = std::move(d);
+}
+
+long long Simulation::halo_bytes() const {
+  if (!subdomain_)
+    return 0;
+  return halo_bytes_ + subdomain_->halo.bytes_sent() + subdomain_->element_forces.bytes_sent() +
+         subdomain_->background_filled.bytes_sent() + subdomain_->background_returned.bytes_sent() +
+         particles_.halo_bytes();
+}
+
+Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference,
+                                double threshold) {
+  Rebalance r;
+  if (!subdomain_)
+    return r;
+  // The costs now, by model entity (particles are stored in cell order).
+  const Particles& p = particles_.particles();
+  const Index np = p.size(), ne = elements_.size();
+  std::vector<int> neighbours(static_cast<std::size_t>(np));
+  std::vector<unsigned char> live_p(static_cast<std::size_t>(np)), live_e(ne);
+  for (Index i = 0; i < np; ++i) {
+    neighbours[p.id_p[i]] = p.neighbours_p[i];
+    live_p[p.id_p[i]] = p.kill_p[i] != Kill::Tension;
   }
+  for (Index k = 0; k < ne; ++k)
+    live_e[k] = elements_.eroded_e[k] == 0;
+  const EntityCosts now = current_costs(reference, neighbours, live_p, live_e);
+  r.before = r.after = phase_imbalance(decomposition_, now);
+  if (!(r.before > threshold))
+    return r;
+  Model here = model; // the entities where they are now
+  here.x_n = nodes_.x_n;
+  for (Index i = 0; i < np; ++i)
+    here.x_p[p.id_p[i]] = p.x_p[i];
+  Decomposition d = decompose(here, now, decomposition_.parts);
+  const double after = phase_imbalance(d, now);
+  if (!(after < r.before))
+    return r;
+  take_share(std::move(d), model);
+  r.after = after;
+  r.done = true;
+  return r;
 }
 
 template <class F> void Simulation::for_own_nodes(F f) {

@@ -53,6 +53,14 @@ struct BodyTotals {
   double internal = 0; // J, stress work and viscous heating in its particles and live elements
 };
 
+// What Simulation::rebalance found: the imbalance (largest rank's cost per step over the mean,
+// the worse phase) at the entities' current costs, under the decomposition it had and the one it
+// has now (the same when it was kept).
+struct Rebalance {
+  double before = 1, after = 1;
+  bool done = false;
+};
+
 class Simulation {
 public:
   // With a decomposition of several parts (a distributed run, issue 28) this rank steps its
@@ -81,10 +89,17 @@ public:
   // probes, frames and checkpoints see the whole state, as on one process. Collective; nothing
   // to do on one process.
   void gather_state();
+  // A distributed run, just after gather_state(): when the decomposition's imbalance at the
+  // entities' current costs (parallel/decomposition.hpp: current_costs of `reference`, the run's
+  // costs at t = 0; killed particles and eroded elements cost nothing, a particle's neighbours
+  // are counted now) exceeds `threshold`, a new decomposition of the entities where they are
+  // now, each rank taking its share of the whole state it then holds. The per-entity arithmetic
+  // is the same under any decomposition, so the run stays the single process's (only the
+  // rank-order sums of the loads' and supports' work may change their last digit). Kept when
+  // the new one would not be better. Collective; nothing to do on one process.
+  Rebalance rebalance(const Model& model, const EntityCosts& reference, double threshold);
   // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
-  long long halo_bytes() const {
-    return (subdomain_ ? subdomain_->halo.bytes_sent() : 0) + particles_.halo_bytes();
-  }
+  long long halo_bytes() const;
 
   double time() const { return time_; }
   long long steps() const { return steps_; }
@@ -119,6 +134,9 @@ private:
   // ranks change in number, every rank learns each element's state (the elements a rank does
   // not compute keep old flags otherwise). Collective.
   void share_erosion();
+  // This rank's share of `d` with the interface ties applied (a tied node goes with its
+  // particle). Collective.
+  void take_share(Decomposition d, const Model& model);
 
   double cfl_;
   FemSpec fem_;
@@ -147,6 +165,8 @@ private:
   Vec3 external_impulse_ = Vec3::Zero();
   double impulse_scale_ = 0;
   std::unique_ptr<Subdomain> subdomain_; // a distributed run's share; null on one process
+  Decomposition decomposition_;          // of a distributed run, with the ties applied
+  long long halo_bytes_ = 0;             // sent by the subdomains replaced by rebalancing
   double eroded_shared_ = -1;            // elements eroded over all ranks when last shared
 };
 

@@ -302,6 +302,32 @@ TEST(Decomposition, KilledAndErodedEntitiesLeaveTheirPartsCost) {
   EXPECT_THROW(part_costs(d, c, std::vector<int>(3, 0), all_p, live_e), Error);
 }
 
+TEST(Decomposition, ImbalanceIsTheWorsePhasesAndANewCutOfTheCurrentCostsRestoresIt) {
+  // A lattice of particles under a block of hexahedra, cut in two balanced parts. Kill the
+  // particles of one part: the particles' phase is then all the other's (imbalance 2, the
+  // elements' stays 1), and a new cut at the current costs shares the survivors evenly.
+  REQUIRE_PARTITIONER();
+  Model m;
+  add_lattice(m, 8, 4, 4);
+  add_block(m, 8, 4, 4, Vec3(0, 0, 10 * mm));
+  const EntityCosts c = entity_costs(m);
+  const Decomposition d = decompose(m, c, 2);
+  const std::vector<int> ten(m.x_p.size(), 10);
+  std::vector<unsigned char> live_p(m.x_p.size(), 1);
+  const std::vector<unsigned char> live_e(m.hex_e.size(), 1);
+  EXPECT_NEAR(phase_imbalance(d, current_costs(c, ten, live_p, live_e)), 1.0, 1e-12);
+  for (std::size_t i = 0; i < m.x_p.size(); ++i)
+    live_p[i] = d.part_p[i] == 0 ? 1 : 0;
+  const EntityCosts now = current_costs(c, ten, live_p, live_e);
+  EXPECT_EQ(now.particle[static_cast<std::size_t>(std::find(live_p.begin(), live_p.end(), 0) -
+                                                  live_p.begin())],
+            0.0);
+  EXPECT_NEAR(phase_imbalance(d, now), 2.0, 1e-12);
+  const Decomposition again = decompose(m, now, 2);
+  EXPECT_NEAR(phase_imbalance(again, now), 1.0, 1e-12);
+  EXPECT_THROW(phase_imbalance(d, entity_costs(Model())), Error);
+}
+
 TEST(Subdomain, ARankComputesItsElementsAndReceivesTheForcesOfTheOthersOnItsNodes) {
   // A 4 × 2 × 2 block of equal elements cut in two at x = 2 mm: the 9 nodes on the cut belong
   // to the lower part. So it owns 27 nodes, computes its 8 elements and receives the forces of
