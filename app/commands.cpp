@@ -18,9 +18,11 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <string>
 #include <tuple>
 
 #ifdef _OPENMP
@@ -63,7 +65,14 @@ void add_solve_options(CLI::App& cmd, CommonOptions& o) {
                  "under mpirun: share the work anew when the busiest rank's cost per step passes "
                  "this multiple of the mean (checked at each history row; 0: never)")
       ->default_val(1.02)
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            const double v = std::strtod(text.c_str(), nullptr);
+            return v == 0 || v >= 1
+                       ? std::string()
+                       : "expected 0 (never) or a multiple ≥ 1 of the mean, got " + text;
+          },
+          "0 or ≥ 1"));
 }
 
 void set_threads(int threads) {

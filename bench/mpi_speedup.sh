@@ -6,11 +6,15 @@
 # history with the single process's, column by column (the state is the same bit for bit; the
 # works of supports and symmetry planes, summed in rank order, may differ in their last digits).
 #   bench/mpi_speedup.sh [SPHFEM=build/app/sphfem] [ROUNDS=3] [OUT=/tmp/sphfem_mpi_speedup]
+#                        [END=4e-5] [CASES="fe_bar sph_bar borvik_coarse borvik_standard"]
+# END: the Børvik shots' time.end (3e-4: the whole shot); CASES: which cases to measure.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 sphfem=${1:-$here/../build/app/sphfem}
 rounds=${2:-3}
 out=${3:-/tmp/sphfem_mpi_speedup}
+end=${4:-4e-5}
+only=${5:-fe_bar sph_bar borvik_coarse borvik_standard}
 cases=$here/../cases
 mkdir -p "$out"
 mpirun_=(mpirun --allow-run-as-root --bind-to none -np 2)
@@ -21,6 +25,7 @@ best() { sort -g | head -1; }
 measure() { # name case-file keys...
   local name=$1 file=$2
   shift 2
+  [[ " $only " == *" $name "* ]] || return 0
   local keys=(-q --set output.frames=false --set time.history_interval=1e-6 "$@")
   "$sphfem" mesh "$file" -o "$out/$name-1x1" "${keys[@]}" >/dev/null
   : >"$out/$name.1x1" && : >"$out/$name.2x1" && : >"$out/$name.1x2"
@@ -58,9 +63,9 @@ echo "| case | entities | steps | 1 rank × 1 thread, s | 2 ranks × 1 thread, s
 echo "|---|---|---|---|---|---|---|---|---|---|"
 measure fe_bar "$cases/bar_pressed_fe/case.yaml" --set bodies.bar.element_size=0.0005
 measure sph_bar "$cases/bar_pressed_sph/case.yaml" --set bodies.bar.spacing=0.0005
-# The Børvik shot at 303.5 m/s, the scene as it is (surface contact), its first 40 µs: the
-# impact, the plug's shear band forming; at the coarse and the standard preset.
+# The Børvik shot at 303.5 m/s, the scene as it is (surface contact), by default its first
+# 40 µs (the impact, the plug's shear band forming); at the coarse and the standard preset.
 measure borvik_coarse "$cases/borvik_12mm/case.yaml" --set preset=coarse \
-  --set projectile.velocity=303.5 --set time.end=4e-5
+  --set projectile.velocity=303.5 --set time.end="$end"
 measure borvik_standard "$cases/borvik_12mm/case.yaml" --set preset=standard \
-  --set projectile.velocity=303.5 --set time.end=4e-5
+  --set projectile.velocity=303.5 --set time.end="$end"

@@ -244,6 +244,11 @@ TEST(Run, BadOverrideAndMissingFileFailCleanly) {
   r = run_sphfem("run " + (dir / "missing.yaml").string() + " -o " + (dir / "OUT").string(), dir);
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("missing.yaml"), std::string::npos) << r.err;
+  // An imbalance is a multiple ≥ 1 of the mean: 0.5 would rebalance at every check.
+  r = run_sphfem("run " + bar_case + " -o " + (dir / "OUT").string() + " --rebalance 0.5", dir);
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("--rebalance: expected 0 (never) or a multiple"), std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(dir / "OUT"));
 }
 
