@@ -338,12 +338,6 @@ EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbo
   return now;
 }
 
-namespace {
-
-struct PhaseCosts {
-  std::vector<double> particle, element; // per part
-};
-
 PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs) {
   if (costs.particle.size() != d.part_p.size() || costs.element.size() != d.part_e.size() ||
       costs.background.size() != d.part_b.size())
@@ -359,8 +353,6 @@ PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs) {
   return c;
 }
 
-} // namespace
-
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const int> neighbours_p,
                                std::span<const unsigned char> live_p,
@@ -372,10 +364,12 @@ std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
 }
 
 double phase_imbalance(const Decomposition& d, const EntityCosts& costs) {
+  // Each phase waits for its slowest part: the worse of the two phases' imbalances.
   const PhaseCosts c = phase_costs(d, costs);
   const auto imbalance = [&d](const std::vector<double>& cost) {
+    const double largest = *std::max_element(cost.begin(), cost.end());
     const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
-    return total > 0 ? *std::max_element(cost.begin(), cost.end()) * d.parts / total : 1.0;
+    return total > 0 ? largest * static_cast<double>(d.parts) / total : 1.0;
   };
   return std::max(imbalance(c.particle), imbalance(c.element));
 }

@@ -96,6 +96,14 @@ std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const unsigned char> live_p,
                                std::span<const unsigned char> live_e);
 
+// Each part's cost per step in each phase of the step: the particles' (with the background
+// particles) and the elements'. Throws sphfem::Error when the costs are not of the
+// decomposition's model.
+struct PhaseCosts {
+  std::vector<double> particle, element; // per part, s
+};
+PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs);
+
 // The largest part's cost over the mean, the worse of the two phases' (the particles' with the
 // background particles, the elements'): what a step waits for. Throws sphfem::Error when the
 // costs are not of the decomposition's model.

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <string>
 
 namespace sphfem {
@@ -31,21 +30,13 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
   HaloCensus census;
   census.skin = skin;
   census.parts.resize(static_cast<std::size_t>(d.parts));
-  std::vector<double> particle_cost(census.parts.size(), 0.0), element_cost(particle_cost);
-  for (std::size_t i = 0; i < m.x_p.size(); ++i) {
-    const auto q = static_cast<std::size_t>(d.part_p[i]);
-    ++census.parts[q].particles;
-    particle_cost[q] += costs.particle[i];
-  }
-  for (std::size_t k = 0; k < m.background_nodes.size(); ++k)
-    particle_cost[static_cast<std::size_t>(d.part_b[k])] += costs.background[k];
-  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
-    const auto q = static_cast<std::size_t>(d.part_e[e]);
-    ++census.parts[q].elements;
-    element_cost[q] += costs.element[e];
-  }
+  for (std::size_t i = 0; i < m.x_p.size(); ++i)
+    ++census.parts[static_cast<std::size_t>(d.part_p[i])].particles;
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
+    ++census.parts[static_cast<std::size_t>(d.part_e[e])].elements;
+  const PhaseCosts phases = phase_costs(d, costs);
   for (std::size_t q = 0; q < census.parts.size(); ++q)
-    census.parts[q].cost_s = particle_cost[q] + element_cost[q];
+    census.parts[q].cost_s = phases.particle[q] + phases.element[q];
   for (std::size_t n = 0; n < m.x_n.size(); ++n) {
     PartLoad& p = census.parts[static_cast<std::size_t>(d.part_n[n])];
     ++p.nodes;
@@ -107,13 +98,7 @@ HaloCensus halo_census(const Model& m, const EntityCosts& costs, const Decomposi
                      ghost.begin() + static_cast<std::ptrdiff_t>((q + 1) * x.size()), 1));
   }
 
-  // Each phase waits for its slowest part: the worse of the two phases' imbalances.
-  const auto imbalance = [&d](const std::vector<double>& cost) {
-    const double largest = *std::max_element(cost.begin(), cost.end());
-    const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
-    return total > 0 ? largest * static_cast<double>(d.parts) / total : 1.0;
-  };
-  census.imbalance = std::max(imbalance(particle_cost), imbalance(element_cost));
+  census.imbalance = phase_imbalance(d, costs);
   return census;
 }
 

@@ -37,6 +37,12 @@ struct Subdomain {
   std::vector<Index> halo_nodes;       // nodes of `elements` owned elsewhere, ascending
   HaloExchange halo, element_forces, all_nodes, all_elements, background_filled,
       background_returned;
+
+  // Bytes this rank sent in the step's exchanges (the gathers for output not counted).
+  long long bytes_sent() const {
+    return halo.bytes_sent() + element_forces.bytes_sent() + background_filled.bytes_sent() +
+           background_returned.bytes_sent();
+  }
 };
 
 // The share of `rank` in `d`. Collective (the exchanges are agreed among all ranks) when the

@@ -120,9 +120,7 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   for (Index k = 0; k < ties_.size(); ++k)
     d.tie(ties_.particle_id(k), ties_.node(k));
   if (subdomain_)
-    halo_bytes_ += subdomain_->halo.bytes_sent() + subdomain_->element_forces.bytes_sent() +
-                   subdomain_->background_filled.bytes_sent() +
-                   subdomain_->background_returned.bytes_sent();
+    halo_bytes_ += subdomain_->bytes_sent();
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
   particles_.distribute(d.part_p, d.part_b);
   decomposition_ = std::move(d);
@@ -131,9 +129,7 @@ void Simulation::take_share(Decomposition d, const Model& model) {
 long long Simulation::halo_bytes() const {
   if (!subdomain_)
     return 0;
-  return halo_bytes_ + subdomain_->halo.bytes_sent() + subdomain_->element_forces.bytes_sent() +
-         subdomain_->background_filled.bytes_sent() + subdomain_->background_returned.bytes_sent() +
-         particles_.halo_bytes();
+  return halo_bytes_ + subdomain_->bytes_sent() + particles_.halo_bytes();
 }
 
 Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference,
