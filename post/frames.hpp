@@ -1,6 +1,7 @@
 // The frames of a run as the post tool reads them back: results.pvd's list grouped per time
-// into its particle file (frames/sph_*.vtu) and FE file (frames/fe_*.vtu), the frame nearest
-// to a time, and one VTU file read with VTK's own reader. Used by post section and post plug.
+// into its particle file (frames/sph_*.vtu, or .pvtu) and FE file (frames/fe_*.vtu, .pvtu), the
+// frame nearest to a time, and one VTU file read with VTK's own reader. Used by post section and
+// post plug.
 #pragma once
 
 #include <vtkDataArray.h>
@@ -25,8 +26,11 @@ std::vector<FrameFiles> frame_files(const std::filesystem::path& pvd);
 // The index of the frame nearest to `time`; without one, the last.
 std::size_t nearest_frame(const std::vector<FrameFiles>& frames, std::optional<double> time);
 
-// One frame file; a missing or unreadable one (VTK's reason in the message, VTK's own printing
-// silenced), or one whose cells refer to points it does not have, is an Error naming it.
+// One frame file, .vtu or a distributed run's .pvtu (its pieces read as one grid), in the
+// model's order: particles by id, an FE mesh's nodes and hexahedra by their ids (a node shared
+// by two pieces once), so that a frame reads the same whoever wrote it. A missing or unreadable
+// one (VTK's reason in the message, VTK's own printing silenced), one whose cells refer to
+// points it does not have, or one missing a piece is an Error naming it.
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const std::filesystem::path& file);
 
 // A frame file's named array with `count` tuples of `components` values; an Error naming the

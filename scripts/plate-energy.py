@@ -22,7 +22,10 @@ import vtk
 
 
 def frame_file(run, frame):
-    files = sorted(glob.glob(os.path.join(run, "frames", "sph_*.vtu")))
+    # One file per frame (sph_NNNNNN.vtu), or a distributed run's .pvtu naming its ranks' pieces.
+    frames = os.path.join(run, "frames")
+    files = sorted(glob.glob(os.path.join(frames, "sph_[0-9][0-9][0-9][0-9][0-9][0-9].vtu")))
+    files += sorted(glob.glob(os.path.join(frames, "sph_[0-9][0-9][0-9][0-9][0-9][0-9].pvtu")))
     if not files:
         sys.exit(f"plate-energy: no particle frames in {run}/frames")
     return files[frame] if frame is not None else files[-1]
@@ -36,8 +39,10 @@ def main():
     parser.add_argument("--thickness", type=float, default=0.012, help="plate thickness, m")
     args = parser.parse_args()
 
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(frame_file(args.run, args.frame))
+    file = frame_file(args.run, args.frame)
+    reader = (vtk.vtkXMLPUnstructuredGridReader() if file.endswith(".pvtu")
+              else vtk.vtkXMLUnstructuredGridReader())
+    reader.SetFileName(file)
     reader.Update()
     grid = reader.GetOutput()
     data = grid.GetPointData()

@@ -19,6 +19,10 @@ void write_atomically(const std::filesystem::path& file,
   }
   std::error_code ec;
   std::filesystem::rename(temporary, file, ec);
+  if (ec) {
+    std::error_code ignored; // nor does a file that cannot be replaced (a folder in its place)
+    std::filesystem::remove(temporary, ignored);
+  }
   SPHFEM_CHECK(!ec, file.string(), ": cannot replace the file: ", ec.message());
 }
 

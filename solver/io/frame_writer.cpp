@@ -3,6 +3,7 @@
 #include "solver/core/error.hpp"
 #include "solver/fem/nodal_stress.hpp"
 #include "solver/io/atomic_file.hpp"
+#include "solver/parallel/ranks.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -16,7 +17,10 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <exception>
+#include <iostream>
 #include <sstream>
 
 namespace sphfem {
@@ -48,10 +52,9 @@ struct FrameWriter::History {
   vtkSmartPointer<vtkDoubleArray> plastic_strain, damage, temperature;
   vtkSmartPointer<vtkIntArray> failed;
 
-  History(vtkIdType n, const char* flag, vtkDataSetAttributes* into)
-      : plastic_strain(double_array("plastic_strain", 1, n)), damage(double_array("damage", 1, n)),
-        temperature(double_array("temperature", 1, n)),
-        failed(int_array(flag, std::vector<int>(static_cast<std::size_t>(n), 0))) {
+  History(const char* flag, vtkDataSetAttributes* into)
+      : plastic_strain(double_array("plastic_strain", 1, 0)), damage(double_array("damage", 1, 0)),
+        temperature(double_array("temperature", 1, 0)), failed(int_array(flag, {})) {
     for (auto& a : {plastic_strain, damage, temperature})
       into->AddArray(a);
     into->AddArray(failed);
@@ -68,8 +71,11 @@ struct FrameWriter::Grid {
   vtkSmartPointer<vtkUnstructuredGrid> grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkSmartPointer<vtkPoints> points = vtkSmartPointer<vtkPoints>::New();
   vtkSmartPointer<vtkDoubleArray> displacement, velocity, stress, von_mises, pressure, density;
+  vtkSmartPointer<vtkIntArray> body_n, id_n, body_e, id_e;
   std::unique_ptr<History> history;
   vtkSmartPointer<vtkUnsignedCharArray> ghost; // eroded elements hidden in ParaView
+  std::vector<Index> elements, nodes;          // written, by index in the model
+  bool shaped = false;
 };
 
 struct FrameWriter::Cloud {
@@ -79,12 +85,13 @@ struct FrameWriter::Cloud {
       internal_energy, mass;
   vtkSmartPointer<vtkIntArray> neighbours, body_id, id;
   std::unique_ptr<History> history;
+  vtkIdType count = -1; // particles the grid is shaped for
 };
 
 namespace {
 
-vtkSmartPointer<vtkDoubleArray> stress_array(vtkIdType count) {
-  auto a = double_array("stress", 6, count);
+vtkSmartPointer<vtkDoubleArray> stress_array() {
+  auto a = double_array("stress", 6, 0);
   const char* components[] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
   for (int c = 0; c < 6; ++c)
     a->SetComponentName(c, components[c]);
@@ -94,6 +101,12 @@ vtkSmartPointer<vtkDoubleArray> stress_array(vtkIdType count) {
 void set_stress(vtkDoubleArray* stress, vtkIdType k, const Mat3& s) {
   const double tensor[6] = {s(0, 0), s(1, 1), s(2, 2), s(0, 1), s(1, 2), s(0, 2)};
   stress->SetTuple(k, tensor);
+}
+
+// Every array of `data` sized for `count` tuples.
+void size_arrays(vtkDataSetAttributes* data, vtkIdType count) {
+  for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+    data->GetAbstractArray(a)->SetNumberOfTuples(count);
 }
 
 // The arrays were filled in place (SetValue, SetTuple): marked modified, so that the ranges the
@@ -114,36 +127,77 @@ void write_vtu(const std::filesystem::path& file, vtkUnstructuredGrid* grid) {
   });
 }
 
+// The XML type name of an array's values.
+const char* xml_type(vtkAbstractArray* a) {
+  switch (a->GetDataType()) {
+  case VTK_DOUBLE:
+    return "Float64";
+  case VTK_INT:
+    return "Int32";
+  case VTK_UNSIGNED_CHAR:
+    return "UInt8";
+  default:
+    throw Error(detail::concat("frame array ", a->GetName(), ": no XML type for VTK type ",
+                               a->GetDataType()));
+  }
+}
+
+void declare_arrays(std::ostringstream& xml, const char* tag, vtkDataSetAttributes* data) {
+  xml << "    <" << tag << ">\n";
+  for (int k = 0; k < data->GetNumberOfArrays(); ++k) {
+    vtkAbstractArray* a = data->GetAbstractArray(k);
+    xml << "      <PDataArray type=\"" << xml_type(a) << "\" Name=\"" << a->GetName()
+        << "\" NumberOfComponents=\"" << a->GetNumberOfComponents() << '"';
+    for (int c = 0; c < a->GetNumberOfComponents(); ++c)
+      if (a->HasAComponentName() && a->GetComponentName(c))
+        xml << " ComponentName" << c << "=\"" << a->GetComponentName(c) << '"';
+    xml << "/>\n";
+  }
+  xml << "    </" << tag << ">\n";
+}
+
+// The parallel file of a frame's part: the arrays every piece has (those of `grid`, this
+// rank's piece) and the pieces `stem`_0.vtu … `stem`_{ranks−1}.vtu beside it.
+std::string pvtu_text(vtkUnstructuredGrid* grid, const std::string& stem, int ranks) {
+  std::ostringstream xml;
+  xml << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n"
+      << "  <PUnstructuredGrid GhostLevel=\"0\">\n";
+  declare_arrays(xml, "PPointData", grid->GetPointData());
+  declare_arrays(xml, "PCellData", grid->GetCellData());
+  xml << "    <PPoints>\n"
+      << "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+      << "    </PPoints>\n";
+  for (int r = 0; r < ranks; ++r)
+    xml << "    <Piece Source=\"" << stem << '_' << r << ".vtu\"/>\n";
+  xml << "  </PUnstructuredGrid>\n</VTKFile>\n";
+  return xml.str();
+}
+
 } // namespace
 
-FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& nodes,
-                         const HexElements& e, const Particles& particles)
+FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const HexElements& e,
+                         const Particles& particles)
     : out_dir_(out_dir) {
   std::filesystem::create_directories(out_dir_ / "frames");
   if (particles.size() > 0) {
     cloud_ = std::make_unique<Cloud>();
     auto& c = *cloud_;
-    const vtkIdType n = particles.size();
     c.points->SetDataTypeToDouble();
-    c.points->SetNumberOfPoints(n);
     c.grid->SetPoints(c.points);
-    auto cells = vtkSmartPointer<vtkCellArray>::New();
-    cells->AllocateExact(n, n);
-    for (vtkIdType i = 0; i < n; ++i)
-      cells->InsertNextCell(1, &i);
-    c.grid->SetCells(VTK_VERTEX, cells);
-    c.displacement = double_array("displacement", 3, n);
-    c.velocity = double_array("velocity", 3, n);
-    c.stress = stress_array(n);
-    c.von_mises = double_array("von_mises", 1, n);
-    c.pressure = double_array("pressure", 1, n);
-    c.density = double_array("density", 1, n);
-    c.h = double_array("h", 1, n);
-    c.internal_energy = double_array("internal_energy", 1, n);
-    c.mass = double_array("mass", 1, n);
-    c.neighbours = int_array("neighbours", particles.neighbours_p);
-    c.body_id = int_array("body_id", particles.body_p);
-    c.id = int_array("id", std::vector<int>(particles.id_p.begin(), particles.id_p.end()));
+    c.displacement = double_array("displacement", 3, 0);
+    c.velocity = double_array("velocity", 3, 0);
+    c.stress = stress_array();
+    c.von_mises = double_array("von_mises", 1, 0);
+    c.pressure = double_array("pressure", 1, 0);
+    c.density = double_array("density", 1, 0);
+    c.h = double_array("h", 1, 0);
+    c.internal_energy = double_array("internal_energy", 1, 0);
+    c.mass = double_array("mass", 1, 0);
+    c.neighbours = int_array("neighbours", {});
+    c.body_id = int_array("body_id", {});
+    c.id = int_array("id", {});
     auto* pd = c.grid->GetPointData();
     for (auto& a : {c.displacement, c.velocity, c.stress, c.von_mises, c.pressure, c.density, c.h,
                     c.internal_energy, c.mass})
@@ -151,43 +205,38 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
     for (auto& a : {c.neighbours, c.body_id, c.id})
       pd->AddArray(a);
     if (particles.inelastic)
-      c.history = std::make_unique<History>(n, "killed", pd);
+      c.history = std::make_unique<History>("killed", pd);
   }
   if (e.size() == 0)
     return;
   grid_ = std::make_unique<Grid>();
-  const vtkIdType n = nodes.size(), ne = e.size();
   auto& g = *grid_;
   g.points->SetDataTypeToDouble();
-  g.points->SetNumberOfPoints(n);
   g.grid->SetPoints(g.points);
-  auto cells = vtkSmartPointer<vtkCellArray>::New();
-  cells->AllocateExact(ne, 8 * ne);
-  for (const Hex& hex : e.nodes_e) {
-    const vtkIdType ids[8] = {hex[0], hex[1], hex[2], hex[3], hex[4], hex[5], hex[6], hex[7]};
-    cells->InsertNextCell(8, ids);
-  }
-  g.grid->SetCells(VTK_HEXAHEDRON, cells);
-
-  g.displacement = double_array("displacement", 3, n);
-  g.velocity = double_array("velocity", 3, n);
-  g.stress = stress_array(ne);
-  g.von_mises = double_array("von_mises", 1, ne);
-  g.pressure = double_array("pressure", 1, ne);
-  g.density = double_array("density", 1, ne);
+  g.displacement = double_array("displacement", 3, 0);
+  g.velocity = double_array("velocity", 3, 0);
+  g.body_n = int_array("body_id", {});
+  g.id_n = int_array("id", {});
+  g.stress = stress_array();
+  g.von_mises = double_array("von_mises", 1, 0);
+  g.pressure = double_array("pressure", 1, 0);
+  g.density = double_array("density", 1, 0);
+  g.body_e = int_array("body_id", {});
+  g.id_e = int_array("id", {});
   auto* pd = g.grid->GetPointData();
-  pd->AddArray(g.displacement);
-  pd->AddArray(g.velocity);
-  pd->AddArray(int_array("body_id", nodes.body_n));
+  for (auto& a : {g.displacement, g.velocity})
+    pd->AddArray(a);
+  for (auto& a : {g.body_n, g.id_n})
+    pd->AddArray(a);
   auto* cd = g.grid->GetCellData();
   for (auto& a : {g.stress, g.von_mises, g.pressure, g.density})
     cd->AddArray(a);
-  cd->AddArray(int_array("body_id", e.body_e));
+  for (auto& a : {g.body_e, g.id_e})
+    cd->AddArray(a);
   if (e.inelastic) {
-    g.history = std::make_unique<History>(ne, "eroded", cd);
+    g.history = std::make_unique<History>("eroded", cd);
     g.ghost = vtkSmartPointer<vtkUnsignedCharArray>::New();
     g.ghost->SetName(vtkDataSetAttributes::GhostArrayName());
-    g.ghost->SetNumberOfTuples(ne);
     cd->AddArray(g.ghost);
   }
 }
@@ -195,63 +244,181 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const Nodes& node
 FrameWriter::~FrameWriter() = default;
 
 void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
-                        const Particles& particles) {
-  char name[32];
+                        const Particles& particles, const FramePiece* piece) {
+  if (!piece) {
+    write_parts(nodes, e, particles, nullptr);
+  } else {
+    // Every rank learns whether all pieces were written before the parallel files name them.
+    std::exception_ptr failed;
+    try {
+      write_parts(nodes, e, particles, piece);
+    } catch (const Error& error) {
+      failed = std::current_exception();
+      // Rank 0 alone speaks for the run (app/commands.cpp): another rank says its own error.
+      if (piece->rank != 0)
+        std::cerr << "sphfem: error on MPI rank " << piece->rank << ": " << error.what() << "\n";
+    }
+    if (ranks::max(failed ? 1 : 0) != 0) {
+      if (failed)
+        std::rethrow_exception(failed);
+      throw Error(detail::concat("frame ", frame_count_, ": another MPI rank could not write its ",
+                                 "piece (its message names the file); the frame is not listed"));
+    }
+  }
+  char stem[32];
+  if (grid_) {
+    std::snprintf(stem, sizeof stem, "fe_%06d", frame_count_);
+    std::string file = std::string(stem) + ".vtu";
+    if (piece) {
+      file = std::string(stem) + ".pvtu";
+      if (piece->rank == 0)
+        write_text_atomically(out_dir_ / "frames" / file,
+                              pvtu_text(grid_->grid, stem, piece->ranks));
+    }
+    entries_.push_back({time, 0, "frames/" + file});
+  }
+  if (cloud_) {
+    std::snprintf(stem, sizeof stem, "sph_%06d", frame_count_);
+    std::string file = std::string(stem) + ".vtu";
+    if (piece) {
+      file = std::string(stem) + ".pvtu";
+      if (piece->rank == 0)
+        write_text_atomically(out_dir_ / "frames" / file,
+                              pvtu_text(cloud_->grid, stem, piece->ranks));
+    }
+    entries_.push_back({time, 1, "frames/" + file});
+  }
+  ++frame_count_;
+  if (!piece || piece->rank == 0)
+    write_collection();
+}
+
+void FrameWriter::write_parts(const Nodes& nodes, const HexElements& e, const Particles& particles,
+                              const FramePiece* piece) {
+  char name[40];
+  const auto file_name = [&](const char* part) {
+    if (piece)
+      std::snprintf(name, sizeof name, "%s_%06d_%d.vtu", part, frame_count_, piece->rank);
+    else
+      std::snprintf(name, sizeof name, "%s_%06d.vtu", part, frame_count_);
+    return out_dir_ / "frames" / name;
+  };
   if (grid_) {
     auto& g = *grid_;
-    for (Index i = 0; i < nodes.size(); ++i) {
+    std::vector<Index> elements;
+    if (piece)
+      elements.assign(piece->elements.begin(), piece->elements.end());
+    else
+      for (Index k = 0; k < e.size(); ++k)
+        elements.push_back(k);
+    if (!g.shaped || elements != g.elements) {
+      // The cells and the nodes they hold, numbered in the file in model order.
+      g.elements = std::move(elements);
+      g.nodes.clear();
+      if (piece) {
+        for (Index k : g.elements)
+          g.nodes.insert(g.nodes.end(), e.nodes_e[k].begin(), e.nodes_e[k].end());
+        std::sort(g.nodes.begin(), g.nodes.end());
+        g.nodes.erase(std::unique(g.nodes.begin(), g.nodes.end()), g.nodes.end());
+      } else {
+        for (Index i = 0; i < nodes.size(); ++i)
+          g.nodes.push_back(i);
+      }
+      std::vector<vtkIdType> local(static_cast<std::size_t>(nodes.size()), -1);
+      for (std::size_t a = 0; a < g.nodes.size(); ++a)
+        local[static_cast<std::size_t>(g.nodes[a])] = static_cast<vtkIdType>(a);
+      const auto nn = static_cast<vtkIdType>(g.nodes.size());
+      const auto ne = static_cast<vtkIdType>(g.elements.size());
+      auto cells = vtkSmartPointer<vtkCellArray>::New();
+      cells->AllocateExact(ne, 8 * ne);
+      for (Index k : g.elements) {
+        vtkIdType ids[8];
+        for (int a = 0; a < 8; ++a)
+          ids[a] = local[static_cast<std::size_t>(e.nodes_e[k][a])];
+        cells->InsertNextCell(8, ids);
+      }
+      g.points->SetNumberOfPoints(nn);
+      size_arrays(g.grid->GetPointData(), nn);
+      size_arrays(g.grid->GetCellData(), ne);
+      g.grid->SetCells(VTK_HEXAHEDRON, cells);
+      for (vtkIdType a = 0; a < nn; ++a) {
+        g.body_n->SetValue(a, nodes.body_n[g.nodes[a]]);
+        g.id_n->SetValue(a, static_cast<int>(g.nodes[a]));
+      }
+      for (vtkIdType a = 0; a < ne; ++a) {
+        g.body_e->SetValue(a, e.body_e[g.elements[a]]);
+        g.id_e->SetValue(a, static_cast<int>(g.elements[a]));
+      }
+      g.shaped = true;
+    }
+    for (std::size_t a = 0; a < g.nodes.size(); ++a) {
+      const Index i = g.nodes[a];
+      const auto k = static_cast<vtkIdType>(a);
       const Vec3& x = nodes.x_n[i];
       const Vec3 u = x - nodes.x0_n[i];
-      g.points->SetPoint(i, x.x(), x.y(), x.z());
-      g.displacement->SetTuple3(i, u.x(), u.y(), u.z());
-      g.velocity->SetTuple3(i, nodes.v_n[i].x(), nodes.v_n[i].y(), nodes.v_n[i].z());
+      g.points->SetPoint(k, x.x(), x.y(), x.z());
+      g.displacement->SetTuple3(k, u.x(), u.y(), u.z());
+      g.velocity->SetTuple3(k, nodes.v_n[i].x(), nodes.v_n[i].y(), nodes.v_n[i].z());
     }
     g.points->Modified();
-    for (Index k = 0; k < e.size(); ++k) {
-      const Mat3 s = e.S_e[k] - e.p_e[k] * Mat3::Identity();
+    for (std::size_t a = 0; a < g.elements.size(); ++a) {
+      const Index j = g.elements[a];
+      const auto k = static_cast<vtkIdType>(a);
+      const Mat3 s = e.S_e[j] - e.p_e[j] * Mat3::Identity();
       set_stress(g.stress, k, s);
       g.von_mises->SetValue(k, von_mises(s));
-      g.pressure->SetValue(k, e.p_e[k]);
-      g.density->SetValue(k, e.mass_e[k] / e.V_e[k]);
+      g.pressure->SetValue(k, e.p_e[j]);
+      g.density->SetValue(k, e.mass_e[j] / e.V_e[j]);
       if (g.history) {
-        g.history->set(k, e.point_e[k], e.eroded_e[k]);
-        g.ghost->SetValue(k, e.eroded_e[k] ? vtkDataSetAttributes::HIDDENCELL : 0);
+        g.history->set(k, e.point_e[j], e.eroded_e[j]);
+        g.ghost->SetValue(k, e.eroded_e[j] ? vtkDataSetAttributes::HIDDENCELL : 0);
       }
     }
-    std::snprintf(name, sizeof name, "fe_%06d.vtu", frame_count_);
-    write_vtu(out_dir_ / "frames" / name, g.grid);
-    entries_.push_back({time, 0, std::string("frames/") + name});
+    write_vtu(file_name("fe"), g.grid);
   }
   if (cloud_) {
     auto& c = *cloud_;
     const auto& p = particles;
-    for (Index i = 0; i < p.size(); ++i) {
+    std::vector<Index> all;
+    if (!piece)
+      for (Index i = 0; i < p.size(); ++i)
+        all.push_back(i);
+    const std::span<const Index> rows = piece ? piece->particle_rows : std::span<const Index>(all);
+    const auto n = static_cast<vtkIdType>(rows.size());
+    if (n != c.count) {
+      auto cells = vtkSmartPointer<vtkCellArray>::New();
+      cells->AllocateExact(n, n);
+      for (vtkIdType i = 0; i < n; ++i)
+        cells->InsertNextCell(1, &i);
+      c.points->SetNumberOfPoints(n);
+      size_arrays(c.grid->GetPointData(), n);
+      c.grid->SetCells(VTK_VERTEX, cells);
+      c.count = n;
+    }
+    for (vtkIdType k = 0; k < n; ++k) {
+      const Index i = rows[static_cast<std::size_t>(k)];
       const Vec3& x = p.x_p[i];
       const Vec3 u = x - p.x0_p[i];
-      c.points->SetPoint(i, x.x(), x.y(), x.z());
-      c.displacement->SetTuple3(i, u.x(), u.y(), u.z());
-      c.velocity->SetTuple3(i, p.v_p[i].x(), p.v_p[i].y(), p.v_p[i].z());
+      c.points->SetPoint(k, x.x(), x.y(), x.z());
+      c.displacement->SetTuple3(k, u.x(), u.y(), u.z());
+      c.velocity->SetTuple3(k, p.v_p[i].x(), p.v_p[i].y(), p.v_p[i].z());
       const Mat3 s = p.S_p[i] - p.p_p[i] * Mat3::Identity();
-      set_stress(c.stress, i, s);
-      c.von_mises->SetValue(i, von_mises(s));
-      c.pressure->SetValue(i, p.p_p[i]);
-      c.density->SetValue(i, p.rho_p[i]);
-      c.h->SetValue(i, p.h_p[i]);
-      c.internal_energy->SetValue(i, p.e_p[i] / p.m_p[i]);
-      c.mass->SetValue(i, p.m_p[i]);
-      c.neighbours->SetValue(i, p.neighbours_p[i]);
-      c.body_id->SetValue(i, p.body_p[i]);
-      c.id->SetValue(i, p.id_p[i]);
+      set_stress(c.stress, k, s);
+      c.von_mises->SetValue(k, von_mises(s));
+      c.pressure->SetValue(k, p.p_p[i]);
+      c.density->SetValue(k, p.rho_p[i]);
+      c.h->SetValue(k, p.h_p[i]);
+      c.internal_energy->SetValue(k, p.e_p[i] / p.m_p[i]);
+      c.mass->SetValue(k, p.m_p[i]);
+      c.neighbours->SetValue(k, p.neighbours_p[i]);
+      c.body_id->SetValue(k, p.body_p[i]);
+      c.id->SetValue(k, static_cast<int>(p.id_p[i]));
       if (c.history)
-        c.history->set(i, p.point_p[i], p.kill_p[i] != Kill::None);
+        c.history->set(k, p.point_p[i], p.kill_p[i] != Kill::None);
     }
     c.points->Modified();
-    std::snprintf(name, sizeof name, "sph_%06d.vtu", frame_count_);
-    write_vtu(out_dir_ / "frames" / name, c.grid);
-    entries_.push_back({time, 1, std::string("frames/") + name});
+    write_vtu(file_name("sph"), c.grid);
   }
-  ++frame_count_;
-  write_collection();
 }
 
 void FrameWriter::persist(StateArchive& a) {

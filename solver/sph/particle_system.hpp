@@ -49,6 +49,8 @@ public:
   std::span<const unsigned char> owned_rows() const;
   // The rows this rank steps, ascending; null on one process (all).
   const std::vector<Index>* own_rows() const { return share_ ? &share_->own : nullptr; }
+  // The rows this rank reads and other ranks own (0 on one process).
+  Index halo_row_count() const { return share_ ? Index(share_->halo_rows.size()) : 0; }
   // Adds `rows` to what this rank refreshes before each particle phase, until the next
   // neighbour list, and refreshes them now (a coupling's reads: the surface contact's faces and
   // slaves). Collective.

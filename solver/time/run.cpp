@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -177,10 +178,25 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     check_restart(options.restart, *restart, c, fingerprint, log);
   }
 
+  // A distributed run writes its frames in parallel: each rank its piece, rank 0 the files
+  // naming them (io/frame_writer.hpp).
   std::unique_ptr<FrameWriter> frames;
-  if (c.output.frames && writer)
-    frames = std::make_unique<FrameWriter>(out, sim.nodes(), sim.elements(),
-                                           sim.particle_system().particles());
+  if (c.output.frames && (writer || decomposition))
+    frames = std::make_unique<FrameWriter>(out, sim.elements(), sim.particle_system().particles());
+  const auto write_frame = [&] {
+    const Particles& p = sim.particle_system().particles();
+    if (!decomposition) {
+      frames->write(sim.time(), sim.nodes(), sim.elements(), p);
+      return;
+    }
+    // The particles' share lists background rows after the real ones.
+    std::span<const Index> rows;
+    if (const std::vector<Index>* own = sim.particle_system().own_rows())
+      rows = std::span<const Index>(own->begin(),
+                                    std::lower_bound(own->begin(), own->end(), p.size()));
+    const FramePiece piece{ranks::rank(), ranks::size(), sim.own_elements(), rows};
+    frames->write(sim.time(), sim.nodes(), sim.elements(), p, &piece);
+  };
   HistoryWriter history(out, history_columns(c, probes, sim.body_names()));
   std::vector<double> row;
   const std::vector<int> in_contact = contact_bodies(c);
@@ -211,7 +227,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
              " s, step " + std::to_string(sim.steps()));
   } else {
     if (frames)
-      frames->write(0.0, sim.nodes(), sim.elements(), sim.particle_system().particles());
+      write_frame();
     history_row(sim, 0.0, probes, in_contact, sim.energies(), row);
     history.append(row);
     if (writer)
@@ -294,7 +310,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     }
     if (frame_due) {
       if (frames)
-        frames->write(sim.time(), sim.nodes(), sim.elements(), sim.particle_system().particles());
+        write_frame();
       flush();
       while (next_frame <= sim.time() + eps)
         next_frame += c.time.output_interval;
@@ -394,9 +410,20 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     summary["ranks"] = ranks::size();
     summary["halo_bytes_per_entity_step"] = entity_steps > 0 ? sent / entity_steps : 0.0;
     summary["rebalances"] = rebalances;
+    // Each rank's halo over what it owns, as the partition census counts it, on the last share.
+    const Simulation::HaloShare share = sim.halo_share();
+    const std::vector<double> shares = ranks::gather_all(std::array{share.halo, share.own});
+    double mean = 0, largest = 0;
+    for (std::size_t r = 0; r < shares.size(); r += 2) {
+      const double fraction = shares[r + 1] > 0 ? shares[r] / shares[r + 1] : 0.0;
+      mean += fraction / ranks::size();
+      largest = std::max(largest, fraction);
+    }
+    summary["halo_fraction"] = {{"mean", mean}, {"max", largest}};
     log.line("ranks exchanged " + format("%.3g", sent / 1e6) + " MB (" +
              format("%.3g", entity_steps > 0 ? sent / entity_steps : 0.0) +
-             " B per entity-step) for their halos");
+             " B per entity-step) for their halos; halo fraction " + format("%.3f", mean) +
+             " mean, " + format("%.3f", largest) + " largest (halo rows and nodes / own)");
   }
   if (writer)
     write_text_atomically(out / "summary.json", summary.dump(2) + "\n");

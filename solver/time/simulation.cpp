@@ -6,6 +6,7 @@
 #include "solver/fem/hex_update.hpp"
 #include "solver/parallel/ranks.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -124,6 +125,21 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
   particles_.distribute(d.part_p, d.part_b);
   decomposition_ = std::move(d);
+}
+
+Simulation::HaloShare Simulation::halo_share() const {
+  if (!subdomain_)
+    return {};
+  Index own_particles = 0;
+  if (const std::vector<Index>* own = particles_.own_rows())
+    own_particles = Index(
+        std::lower_bound(own->begin(), own->end(), particles_.particles().size()) - own->begin());
+  // As the census counts them: a background particle stepped here but filled on its node's
+  // rank is a ghost point here, and a foreign node there (its force returns).
+  const Subdomain& s = *subdomain_;
+  return {double(particles_.halo_row_count() + Index(s.halo_nodes.size()) +
+                 Index(s.background_filled.received() + s.background_returned.received())),
+          double(own_particles + Index(s.nodes.size()))};
 }
 
 long long Simulation::halo_bytes() const {

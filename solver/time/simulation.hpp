@@ -100,6 +100,19 @@ public:
   Rebalance rebalance(const Model& model, const EntityCosts& reference, double threshold);
   // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
   long long halo_bytes() const;
+  // A distributed run: what this rank receives of other ranks each step now — the particles'
+  // halo rows (particles and background particles), the nodes of its elements that others own,
+  // the background particles filled or returned across ranks — and what it owns — its
+  // particles and nodes: the census's halo fraction (parallel/halo.hpp) counted on the run's own
+  // share. Zero on one process.
+  struct HaloShare {
+    double halo = 0, own = 0;
+  };
+  HaloShare halo_share() const;
+  // A distributed run: the elements this rank computes, ascending (empty on one process).
+  std::span<const Index> own_elements() const {
+    return subdomain_ ? std::span<const Index>(subdomain_->elements) : std::span<const Index>();
+  }
 
   double time() const { return time_; }
   long long steps() const { return steps_; }

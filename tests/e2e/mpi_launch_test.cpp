@@ -7,7 +7,8 @@
 // pressed face to face (surface contact both ways, across the ranks' cuts), a Johnson–Cook bar
 // pulled until its elements erode, a quarter block of particles crushed on a fixed face across
 // two symmetry planes until most of its particles are killed, that block's checkpoint written on
-// 2 ranks continued on 3, and the first 30 µs of the coarse Børvik shot. The commands that do
+// 2 ranks continued on 3, and the first 30 µs of the coarse Børvik shot. Their frames are one
+// piece per rank that the post tool reads as the single process's frames. The commands that do
 // not share their work are refused on several ranks before anything is written.
 // mpirun runs as root in CI, hence --allow-run-as-root; --oversubscribe lets three ranks start
 // on two cores.
@@ -17,8 +18,10 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -157,6 +160,11 @@ nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
     summary.erase("ranks");
     summary.erase("halo_bytes_per_entity_step");
     summary.erase("rebalances");
+    // Every rank reads a halo from the others.
+    const double mean = summary["halo_fraction"]["mean"], largest = summary["halo_fraction"]["max"];
+    EXPECT_GT(mean, 0.0);
+    EXPECT_LE(mean, largest);
+    summary.erase("halo_fraction");
     summary.erase("case_file");
     auto reference = one;
     reference.erase("case_file");
@@ -255,19 +263,111 @@ TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThree) {
   const sphfem::test::Scratch scratch("mpi_restart");
   const std::string case_file =
       write_case(scratch.dir, "crushed_quarter", crushed_quarter).string();
-  const std::string half = quiet + " --set time.end=7e-6";
+  // The ranks' run writes frames: those after the restart are three pieces each, listed after
+  // the two-piece frames before it.
+  const std::string half = " -q --set time.end=7e-6";
   const fs::path one = scratch.dir / "one", two = scratch.dir / "two";
   ASSERT_EQ(sphfem_on(0, "run " + case_file + " -o " + one.string() + half, scratch.dir).code, 0);
   ASSERT_EQ(sphfem_on(2, "run " + case_file + " -o " + two.string() + half, scratch.dir).code, 0);
   for (const auto& [out, ranks] : {std::pair{one, 0}, std::pair{two, 3}}) {
     const auto r = sphfem_on(ranks,
-                             "solve " + case_file + " -o " + out.string() + quiet + " --restart " +
+                             "solve " + case_file + " -o " + out.string() + " -q --restart " +
                                  (out / "checkpoint.h5").string(),
                              scratch.dir);
     ASSERT_EQ(r.code, 0) << r.err;
   }
   EXPECT_TRUE(slurp(one / "history.csv") == slurp(two / "history.csv"));
   EXPECT_NE(slurp(two / "run.log").find("restart from"), std::string::npos);
+  const std::string listed = slurp(two / "results.pvd");
+  for (int frame = 0; frame < 5; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "sph_%06d", frame);
+    EXPECT_NE(listed.find(std::string("frames/") + name + ".pvtu"), std::string::npos) << name;
+    const std::string pvtu = slurp(two / "frames" / (std::string(name) + ".pvtu"));
+    EXPECT_EQ(pvtu.find("_2.vtu") != std::string::npos, frame >= 3) << name; // 7 µs: frame 2
+  }
+  EXPECT_EQ(listed,
+            std::regex_replace(slurp(one / "results.pvd"), std::regex(R"(\.vtu")"), ".pvtu\""));
+}
+
+TEST(MpiLaunch, FramesOfTwoAndThreeRanksArePiecesThatReadAsTheOneProcessFrames) {
+  // Each rank writes its piece of every frame, rank 0 the .pvtu naming the pieces, and
+  // results.pvd lists those. The post tool reads them back in the model's order: the report's
+  // section, deflection, fragments and plug — of hexahedra eroding (their nodes in two pieces
+  // where the ranks' elements meet) and of particles killed — are the single process's, byte for
+  // byte. A missing piece stops the post tool with the frame named.
+  const sphfem::test::Scratch scratch("mpi_frames");
+  for (const auto& [name, text] :
+       {std::pair{"eroding_bar", eroding_bar}, std::pair{"crushed_quarter", crushed_quarter}}) {
+    const std::string case_file = write_case(scratch.dir, name, text).string();
+    const fs::path one = scratch.dir / (std::string(name) + "_one");
+    const auto plain =
+        sphfem_on(0, "run " + case_file + " -o " + one.string() + " -q", scratch.dir);
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    const std::string listed = slurp(one / "results.pvd");
+    int listed_frames = 0;
+    for (std::size_t at = 0; (at = listed.find("<DataSet", at)) != std::string::npos; ++at)
+      ++listed_frames;
+    EXPECT_GE(listed_frames, 4) << name;
+    for (int ranks : {2, 3}) {
+      const fs::path out = scratch.dir / (std::string(name) + "_" + std::to_string(ranks));
+      const auto r =
+          sphfem_on(ranks, "run " + case_file + " -o " + out.string() + " -q", scratch.dir);
+      ASSERT_EQ(r.code, 0) << r.err;
+      // The same frames at the same times, each a .pvtu of one piece per rank.
+      const std::string expected = std::regex_replace(listed, std::regex(R"(\.vtu")"), ".pvtu\"");
+      EXPECT_EQ(slurp(out / "results.pvd"), expected) << name << ", " << ranks << " ranks";
+      int frames = 0;
+      for (const auto& entry : fs::directory_iterator(out / "frames")) {
+        if (entry.path().extension() != ".pvtu")
+          continue;
+        ++frames;
+        const std::string pvtu = slurp(entry.path());
+        const std::string stem = entry.path().stem().string();
+        for (int rank = 0; rank < ranks; ++rank) {
+          const std::string piece = stem + "_" + std::to_string(rank) + ".vtu";
+          EXPECT_NE(pvtu.find("<Piece Source=\"" + piece + "\"/>"), std::string::npos) << piece;
+          EXPECT_TRUE(fs::is_regular_file(out / "frames" / piece)) << piece;
+        }
+        const std::string beyond = stem + "_" + std::to_string(ranks) + ".vtu";
+        EXPECT_EQ(pvtu.find(beyond), std::string::npos) << beyond;
+      }
+      EXPECT_EQ(frames, listed_frames) << name;
+      for (const char* file :
+           {"section.csv", "section.json", "deflection.csv", "fragments.csv", "plug.json"}) {
+        if (fs::exists(one / "report" / file)) {
+          EXPECT_TRUE(slurp(one / "report" / file) == slurp(out / "report" / file))
+              << name << ", " << ranks << " ranks: report/" << file;
+        }
+      }
+    }
+    ASSERT_TRUE(fs::exists(one / "report" / "section.csv")) << name;
+  }
+  const fs::path broken = scratch.dir / "eroding_bar_2";
+  fs::remove(broken / "frames" / "fe_000004_1.vtu");
+  const auto r =
+      sphfem_on(0, "post section " + broken.string() + " --plane 0,0.002,0,0,1,0", scratch.dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("fe_000004.pvtu: cannot read the frame (VTK: File for piece 1"),
+            std::string::npos)
+      << r.err;
+  // A rank that cannot write its piece (a folder where its file goes) stops every rank; it names
+  // the file, and the frame is not listed.
+  const fs::path blocked = scratch.dir / "blocked";
+  fs::create_directories(blocked / "frames" / "fe_000000_1.vtu" / "in_the_way");
+  const auto stopped = sphfem_on(
+      2, "run " + (scratch.dir / "eroding_bar.yaml").string() + " -o " + blocked.string() + " -q",
+      scratch.dir);
+  EXPECT_NE(stopped.code, 0);
+  EXPECT_NE(stopped.err.find("error on MPI rank 1: " + (blocked / "frames").string() +
+                             "/fe_000000_1.vtu: cannot replace the file"),
+            std::string::npos)
+      << stopped.err;
+  EXPECT_NE(stopped.err.find("frame 0: another MPI rank could not write its piece"),
+            std::string::npos)
+      << stopped.err;
+  EXPECT_FALSE(fs::exists(blocked / "results.pvd"));
+  EXPECT_FALSE(fs::exists(blocked / "frames" / "fe_000000_1.vtu.tmp"));
 }
 
 TEST(MpiLaunch, CoarseBorvikShotOnTwoRanksIsTheOneProcessRun) {
