@@ -254,9 +254,11 @@ void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
       write_parts(nodes, e, particles, piece);
     } catch (const Error& error) {
       failed = std::current_exception();
-      // Rank 0 alone speaks for the run (app/commands.cpp): another rank says its own error.
+      // Rank 0 alone speaks for the run (app/commands.cpp): another rank says its own error, in
+      // one write so that the ranks' lines do not interleave.
       if (piece->rank != 0)
-        std::cerr << "sphfem: error on MPI rank " << piece->rank << ": " << error.what() << "\n";
+        std::cerr << detail::concat("sphfem: error on MPI rank ", piece->rank, ": ", error.what(),
+                                    "\n");
     }
     if (ranks::max(failed ? 1 : 0) != 0) {
       if (failed)

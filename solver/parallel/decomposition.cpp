@@ -230,6 +230,60 @@ bool decomposition_available() {
 
 #endif
 
+namespace {
+
+// The two cuts number their parts each on its own: where they cut alike but in another order
+// (a tie between two equally long sides, say), one region has two numbers, and every background
+// particle there — stepped by its particles' part, filled by its node's — crosses ranks twice a
+// step. So the elements' parts are renamed after the particles' parts their background
+// particles fall in: the greatest overlaps first (ties by part number), the rest in order. A
+// renaming only: each part's entities, and so the balance, are unchanged.
+void match_element_parts(Decomposition& d, const Model& m) {
+  const auto parts = static_cast<std::size_t>(d.parts);
+  std::vector<int> node_part(m.x_n.size(), d.parts); // as the nodes' owners are chosen below
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
+    for (const Index n : m.hex_e[e])
+      node_part[static_cast<std::size_t>(n)] =
+          std::min(node_part[static_cast<std::size_t>(n)], d.part_e[e]);
+  std::vector<long long> overlap(parts * parts, 0); // [element part][particle part]
+  for (std::size_t k = 0; k < m.background_nodes.size(); ++k) {
+    const int q = node_part[static_cast<std::size_t>(m.background_nodes[k])];
+    if (q < d.parts)
+      ++overlap[static_cast<std::size_t>(q) * parts + static_cast<std::size_t>(d.part_b[k])];
+  }
+  std::vector<std::size_t> pairs;
+  for (std::size_t k = 0; k < overlap.size(); ++k)
+    if (overlap[k] > 0)
+      pairs.push_back(k);
+  std::stable_sort(pairs.begin(), pairs.end(),
+                   [&](std::size_t a, std::size_t b) { return overlap[a] > overlap[b]; });
+  std::vector<int> name(parts, -1);
+  std::vector<unsigned char> taken(parts, 0);
+  for (const std::size_t k : pairs) {
+    const std::size_t q = k / parts, p = k % parts;
+    if (name[q] < 0 && !taken[p]) {
+      name[q] = static_cast<int>(p);
+      taken[p] = 1;
+    }
+  }
+  std::size_t next = 0;
+  for (int& n : name)
+    if (n < 0) {
+      while (taken[next])
+        ++next;
+      n = static_cast<int>(next);
+      taken[next] = 1;
+    }
+  for (int& q : d.part_e)
+    q = name[static_cast<std::size_t>(q)];
+  std::vector<Decomposition::Region> regions(parts);
+  for (std::size_t q = 0; q < parts; ++q)
+    regions[static_cast<std::size_t>(name[q])] = d.regions[q];
+  d.regions = std::move(regions);
+}
+
+} // namespace
+
 Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
   if (parts < 1)
     throw Error("decomposition: the number of parts must be at least 1, got " +
@@ -274,6 +328,8 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
       }
       d.part_e = rcb_parts(o, parts, d.regions);
     }
+    if (!m.x_p.empty() && !m.hex_e.empty())
+      match_element_parts(d, m);
     if (m.x_p.empty())
       d.particle_regions = d.regions;
     if (m.hex_e.empty())

@@ -257,7 +257,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       try {
         sim.step(dt);
       } catch (const Error& e) {
-        std::cerr << "sphfem: error on MPI rank " << ranks::rank() << ": " << e.what() << "\n";
+        std::cerr << detail::concat("sphfem: error on MPI rank ", ranks::rank(), ": ", e.what(),
+                                    "\n"); // one write: the ranks' lines do not interleave
         ranks::abort(1);
       }
     } else {

@@ -220,6 +220,43 @@ TEST(Decomposition, BackgroundParticlesAreCutWithTheParticles) {
   EXPECT_LT(halo_census(m, c, d, 0.0).imbalance, 1.05);
 }
 
+TEST(Decomposition, TheElementsPartsAreNamedAfterTheParticlesPartsTheyMeet) {
+  REQUIRE_PARTITIONER();
+  // A layer of 11 × 9 × 4 particles over a plate of 8 × 9 × 2 hexahedra whose top two node
+  // planes are background particles: the particles' box is longer in x, the elements' in y, so
+  // the two RCBs into 4 parts cut the same quadrants in another order and number them apart.
+  // Renamed, the elements' part of each quadrant is its particles' part: a background particle
+  // is filled by its node's rank and stepped by the same rank but near the cuts.
+  Model m;
+  add_lattice(m, 11, 9, 4, Vec3(0, 0, 3 * mm));
+  add_block(m, 8, 9, 2);
+  for (Index n = 0; n < static_cast<Index>(m.x_n.size()); ++n)
+    if (m.x_n[n].z() > 0.5 * mm) {
+      m.background_nodes.push_back(n);
+      m.h_background.push_back(1.2 * mm);
+    }
+  const EntityCosts c = entity_costs(m);
+  const Decomposition d = decompose(m, c, 4);
+  std::size_t apart = 0;
+  for (std::size_t k = 0; k < m.background_nodes.size(); ++k)
+    apart += d.part_b[k] != d.part_n[static_cast<std::size_t>(m.background_nodes[k])];
+  // Numbered apart, two quadrants of four disagree (103 of the 180); renamed, only the strip
+  // between the two cuts' x positions (the particles' box is wider) does.
+  EXPECT_LT(apart, m.background_nodes.size() / 4) << apart << " of " << m.background_nodes.size();
+  // A renaming: each part still holds a quarter of the elements' cost, and its elements lie in
+  // its region.
+  std::vector<double> cost(4, 0.0);
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+    cost[static_cast<std::size_t>(d.part_e[e])] += c.element[e];
+    Vec3 centre = Vec3::Zero();
+    for (const Index n : m.hex_e[e])
+      centre += m.x_n[static_cast<std::size_t>(n)] / 8.0;
+    EXPECT_EQ(d.part_at(centre, d.part_e[e]), d.part_e[e]) << "element " << e;
+  }
+  for (const double part : cost)
+    EXPECT_NEAR(part, cost[0], 0.05 * cost[0]);
+}
+
 TEST(Decomposition, ATiedNodeGoesWithItsParticle) {
   REQUIRE_PARTITIONER();
   // A tie (METHOD.md §4.2) between a particle of one part and a node of the other: the node
