@@ -267,29 +267,19 @@ void FrameWriter::write(double time, const Nodes& nodes, const HexElements& e,
                                  "piece (its message names the file); the frame is not listed"));
     }
   }
-  char stem[32];
-  if (grid_) {
-    std::snprintf(stem, sizeof stem, "fe_%06d", frame_count_);
-    std::string file = std::string(stem) + ".vtu";
-    if (piece) {
-      file = std::string(stem) + ".pvtu";
-      if (piece->rank == 0)
-        write_text_atomically(out_dir_ / "frames" / file,
-                              pvtu_text(grid_->grid, stem, piece->ranks));
-    }
-    entries_.push_back({time, 0, "frames/" + file});
-  }
-  if (cloud_) {
-    std::snprintf(stem, sizeof stem, "sph_%06d", frame_count_);
-    std::string file = std::string(stem) + ".vtu";
-    if (piece) {
-      file = std::string(stem) + ".pvtu";
-      if (piece->rank == 0)
-        write_text_atomically(out_dir_ / "frames" / file,
-                              pvtu_text(cloud_->grid, stem, piece->ranks));
-    }
-    entries_.push_back({time, 1, "frames/" + file});
-  }
+  // Each part's file in the collection: its .vtu, or the .pvtu naming the ranks' pieces.
+  const auto list = [&](int part, const char* prefix, vtkUnstructuredGrid* grid) {
+    char stem[32];
+    std::snprintf(stem, sizeof stem, "%s_%06d", prefix, frame_count_);
+    const std::string file = std::string(stem) + (piece ? ".pvtu" : ".vtu");
+    if (piece && piece->rank == 0)
+      write_text_atomically(out_dir_ / "frames" / file, pvtu_text(grid, stem, piece->ranks));
+    entries_.push_back({time, part, "frames/" + file});
+  };
+  if (grid_)
+    list(0, "fe", grid_->grid);
+  if (cloud_)
+    list(1, "sph", cloud_->grid);
   ++frame_count_;
   if (!piece || piece->rank == 0)
     write_collection();

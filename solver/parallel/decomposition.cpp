@@ -232,6 +232,16 @@ bool decomposition_available() {
 
 namespace {
 
+// A node goes with the lowest part among its elements' (`parts` for a node no element holds).
+std::vector<int> node_parts(const Model& m, const std::vector<int>& part_e, int parts) {
+  std::vector<int> part_n(m.x_n.size(), parts);
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
+    for (const Index n : m.hex_e[e])
+      part_n[static_cast<std::size_t>(n)] =
+          std::min(part_n[static_cast<std::size_t>(n)], part_e[e]);
+  return part_n;
+}
+
 // The two cuts number their parts each on its own: where they cut alike but in another order
 // (a tie between two equally long sides, say), one region has two numbers, and every background
 // particle there — stepped by its particles' part, filled by its node's — crosses ranks twice a
@@ -240,11 +250,7 @@ namespace {
 // renaming only: each part's entities, and so the balance, are unchanged.
 void match_element_parts(Decomposition& d, const Model& m) {
   const auto parts = static_cast<std::size_t>(d.parts);
-  std::vector<int> node_part(m.x_n.size(), d.parts); // as the nodes' owners are chosen below
-  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
-    for (const Index n : m.hex_e[e])
-      node_part[static_cast<std::size_t>(n)] =
-          std::min(node_part[static_cast<std::size_t>(n)], d.part_e[e]);
+  const std::vector<int> node_part = node_parts(m, d.part_e, d.parts);
   std::vector<long long> overlap(parts * parts, 0); // [element part][particle part]
   for (std::size_t k = 0; k < m.background_nodes.size(); ++k) {
     const int q = node_part[static_cast<std::size_t>(m.background_nodes[k])];
@@ -338,15 +344,12 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
     d.particle_regions = d.regions;
   }
 
-  d.part_n.assign(m.x_n.size(), parts);
+  d.part_n = node_parts(m, d.part_e, parts);
   d.shared_n.assign(m.x_n.size(), 0);
   for (std::size_t e = 0; e < m.hex_e.size(); ++e)
-    for (const Index n : m.hex_e[e]) {
-      int& owner = d.part_n[static_cast<std::size_t>(n)];
-      if (owner != parts && owner != d.part_e[e])
+    for (const Index n : m.hex_e[e])
+      if (d.part_n[static_cast<std::size_t>(n)] != d.part_e[e])
         d.shared_n[static_cast<std::size_t>(n)] = 1;
-      owner = std::min(owner, d.part_e[e]);
-    }
   for (int& owner : d.part_n)
     if (owner == parts) // a node no element holds (none in a meshed model)
       owner = 0;

@@ -18,6 +18,7 @@
 #include "solver/state/model.hpp"
 #include "solver/state/particles.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <span>
@@ -49,6 +50,14 @@ public:
   std::span<const unsigned char> owned_rows() const;
   // The rows this rank steps, ascending; null on one process (all).
   const std::vector<Index>* own_rows() const { return share_ ? &share_->own : nullptr; }
+  // The real particles' rows among them (own rows list background rows after the real ones);
+  // empty on one process.
+  std::span<const Index> own_real_rows() const {
+    if (!share_)
+      return {};
+    const auto& own = share_->own;
+    return {own.begin(), std::lower_bound(own.begin(), own.end(), particles().size())};
+  }
   // The rows this rank reads and other ranks own (0 on one process).
   Index halo_row_count() const { return share_ ? Index(share_->halo_rows.size()) : 0; }
   // Adds `rows` to what this rank refreshes before each particle phase, until the next

@@ -189,12 +189,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       frames->write(sim.time(), sim.nodes(), sim.elements(), p);
       return;
     }
-    // The particles' share lists background rows after the real ones.
-    std::span<const Index> rows;
-    if (const std::vector<Index>* own = sim.particle_system().own_rows())
-      rows = std::span<const Index>(own->begin(),
-                                    std::lower_bound(own->begin(), own->end(), p.size()));
-    const FramePiece piece{ranks::rank(), ranks::size(), sim.own_elements(), rows};
+    const FramePiece piece{ranks::rank(), ranks::size(), sim.own_elements(),
+                           sim.particle_system().own_real_rows()};
     frames->write(sim.time(), sim.nodes(), sim.elements(), p, &piece);
   };
   HistoryWriter history(out, history_columns(c, probes, sim.body_names()));

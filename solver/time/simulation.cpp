@@ -130,10 +130,7 @@ void Simulation::take_share(Decomposition d, const Model& model) {
 Simulation::HaloShare Simulation::halo_share() const {
   if (!subdomain_)
     return {};
-  Index own_particles = 0;
-  if (const std::vector<Index>* own = particles_.own_rows())
-    own_particles = Index(
-        std::lower_bound(own->begin(), own->end(), particles_.particles().size()) - own->begin());
+  const auto own_particles = Index(particles_.own_real_rows().size());
   // As the census counts them: a background particle stepped here but filled on its node's
   // rank is a ghost point here, and a foreign node there (its force returns).
   const Subdomain& s = *subdomain_;
