@@ -54,9 +54,8 @@ void BackgroundParticles::return_forces(const Particles& p, std::vector<Vec3>& f
     f_nodes[nodes_[k]] += p.f_p[p.real + k];
 }
 
-double BackgroundParticles::energy(const Particles& p) const {
-  return deterministic_sum(
-      p.background, 0.0, [&](Index k) { return p.e_p[p.size() + k] - 0.5 * p.de_p[p.size() + k]; });
+ExactSum BackgroundParticles::energy(const Particles& p, IndexRange rows) const {
+  return exact_sums<1>(rows, [&](Index i) { return std::array{p.e_p[i] - 0.5 * p.de_p[i]}; })[0];
 }
 
 } // namespace sphfem

@@ -8,6 +8,7 @@
 // Verified by tests/coupling/coupling_test.cpp.
 #pragma once
 
+#include "solver/core/exact_sum.hpp"
 #include "solver/fem/node_gather.hpp"
 #include "solver/io/case.hpp"
 #include "solver/material/material.hpp"
@@ -51,8 +52,9 @@ public:
   template <class Visit> static void visit_filled(Particles& p, Visit visit);
   template <class Visit> static void visit_returned(Particles& p, Visit visit);
 
-  // Energy stored by the coupling pairs on the background side (at the half step), J.
-  double energy(const Particles& p) const;
+  // Energy stored by the coupling pairs on the background side (at the half step), J, over the
+  // background `rows` (a distributed run: those this rank owns), exactly.
+  ExactSum energy(const Particles& p, IndexRange rows) const;
 
 private:
   template <class T> static std::span<T> rows(Particles& p, std::vector<T>& field) {

@@ -30,24 +30,25 @@ void Contact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
   }
   if (!kernel_.empty())
     kernel_.apply(p, list, ranks != nullptr ? ranks->own : nullptr);
-  const ContactTotals surface = surface_.apply(p, list, rebuilds, elements, dt, ranks);
-  friction_power_ = surface.friction_power;
-  omega2_ = surface.omega2;
+  ContactTotals surface = surface_.apply(p, list, rebuilds, elements, dt, ranks);
   if (ranks != nullptr && !surface_.empty()) {
-    friction_power_ = ranks::sum_in_rank_order(std::array{friction_power_})[0];
-    omega2_ = ranks::max(omega2_);
+    ranks::sum_exactly(std::span(&surface.friction_power, 1));
+    surface.omega2 = ranks::max(surface.omega2);
   }
+  friction_power_ = surface.friction_power.value();
+  omega2_ = surface.omega2;
 }
 
-double Contact::energy(const Particles& p) const {
-  return deterministic_sum(p.rows(), 0.0, [&](Index i) { return p.phi_p[i]; });
+ExactSum Contact::energy(const Particles& p, IndexRange rows) const {
+  return exact_sums<1>(rows, [&](Index i) { return std::array{p.phi_p[i]}; })[0];
 }
 
-Vec3 Contact::force_on(const Particles& p, int body) const {
+ExactSums<3> Contact::force_on(const Particles& p, int body, IndexRange rows) const {
   if (empty() || !in_contact_[body])
-    return Vec3::Zero();
-  return deterministic_sum(p.rows(), Vec3(Vec3::Zero()), [&](Index i) -> Vec3 {
-    return p.body_p[i] == body ? p.fc_p[i] : Vec3(Vec3::Zero());
+    return {};
+  return exact_sums<3>(rows, [&](Index i) {
+    const Vec3 f = p.body_p[i] == body ? p.fc_p[i] : Vec3(Vec3::Zero());
+    return std::array{f.x(), f.y(), f.z()};
   });
 }
 

@@ -7,6 +7,7 @@
 // this. Verified by tests/coupling/contact_test.cpp and tests/coupling/surface_contact_test.cpp.
 #pragma once
 
+#include "solver/core/exact_sum.hpp"
 #include "solver/coupling/kernel_contact.hpp"
 #include "solver/coupling/surface_contact.hpp"
 #include "solver/io/state_archive.hpp"
@@ -35,8 +36,9 @@ public:
   // erosion of every element before apply()).
   bool follows_erosion() const { return surface_.follows_erosion(); }
 
-  // Penalty energy stored at the last evaluation, J: Σ phi_p over p's rows.
-  double energy(const Particles& p) const;
+  // Penalty energy stored at the last evaluation, J: Σ phi_p over `rows` (a distributed run: the
+  // rows this rank owns; each pair's energy is on its slave's row), exactly.
+  ExactSum energy(const Particles& p, IndexRange rows) const;
   // Power dissipated by friction at the last evaluation, W (its forces act over the next kick).
   double friction_power() const { return friction_power_; }
   // Critical step 2/ω of the stiffest surface contact spring near contact, s (∞ if none; the
@@ -44,8 +46,9 @@ public:
   double stable_dt() const {
     return omega2_ > 0 ? 2 / std::sqrt(omega2_) : std::numeric_limits<double>::infinity();
   }
-  // Total contact force on body `body` from its contact partners, N (from fc_p).
-  Vec3 force_on(const Particles& p, int body) const;
+  // Contact force on body `body` from its contact partners, N: Σ fc_p over its `rows`, exactly
+  // (x, y, z).
+  ExactSums<3> force_on(const Particles& p, int body, IndexRange rows) const;
 
   void persist(StateArchive& a);
 

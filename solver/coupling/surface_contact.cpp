@@ -13,6 +13,30 @@
 namespace sphfem {
 namespace {
 
+// One slave's or row's part of ContactTotals.
+struct ContactTerm {
+  double friction_power = 0; // W
+  double omega2 = 0;         // 1/s²
+};
+
+// The friction power of term(k), k < count, summed exactly, and the largest ω², in parallel.
+template <class Term> ContactTotals contact_totals(Index count, Term term) {
+  ContactTotals totals;
+#pragma omp parallel if (count > parallel_min_items)
+  {
+    ContactTotals mine;
+#pragma omp for schedule(static) nowait
+    for (Index k = 0; k < count; ++k) {
+      const ContactTerm t = term(k);
+      mine.friction_power.add(t.friction_power);
+      mine.omega2 = std::max(mine.omega2, t.omega2);
+    }
+#pragma omp critical(sphfem_contact_totals)
+    totals += mine;
+  }
+  return totals;
+}
+
 // Faces may stretch this much before a slave in contact could lie beyond the corners' reach.
 constexpr double stretch_allowance = 1.25;
 
@@ -258,16 +282,16 @@ ContactTotals SurfaceContact::spheres(Particles& p, const NeighbourList& list, d
   // each of its two rows — so a pair with a mirror image (no row of its own) counts half: its
   // mirror pair, the other half, lies outside the modelled part.
   const IndexRange rows = IndexRange::of(ranks != nullptr ? ranks->own : nullptr, p.size());
-  return deterministic_sum(rows.count, ContactTotals{}, [&](Index k) {
+  return contact_totals(rows.count, [&](Index k) {
     const Index i = rows[k];
     const int body = p.body_p[i];
     if (!sphere_partner_[body])
-      return ContactTotals{};
+      return ContactTerm{};
     const int row = body * bodies_;
     const Vec3 xi = p.x_p[i], vi = p.v_p[i];
     const double R_i = 0.5 * p.dp_p[i], m_i = p.m_p[i], V_i = m_i / p.rho0_p[i];
     Vec3 f = Vec3::Zero();
-    ContactTotals sums;
+    ContactTerm sums;
     double energy = 0;
     double stiffness = 0; // Σ k (1/m_i + 1/m_j) of the springs near contact
     for (const Index j : list.of(i)) {
@@ -327,9 +351,9 @@ void SurfaceContact::update_normals(const Particles& p) {
 ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRanks* ranks) {
   // Each slave chooses its face and writes only its own candidates (race-free). Several ranks
   // may evaluate a slave; its owner counts its friction.
-  return deterministic_sum(static_cast<Index>(slave_rows_.size()), ContactTotals{}, [&](Index s) {
+  return contact_totals(static_cast<Index>(slave_rows_.size()), [&](Index s) {
     if (ranks != nullptr && !evaluated_[s])
-      return ContactTotals{};
+      return ContactTerm{};
     const Index i = slave_rows_[s];
     const bool particle = i < real_;
     const double R = particle ? 0.5 * p.dp_p[i] : 0.0;
@@ -374,7 +398,7 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
       }
     }
     if (best < 0)
-      return ContactTotals{};
+      return ContactTerm{};
     // On an edge or a corner: the faces that share the nearest point give the side (the sum of
     // their normals there). A node that does not see one of them meets the body edge on edge:
     // the face it sees holds it by its plane.
@@ -416,7 +440,7 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
     p.ignored_overlap_p[i] = ignored;
     const double gap = g.s - R + ignored;
     if (gap >= near_fraction * size || g.s < -face.depth)
-      return ContactTotals{};
+      return ContactTerm{};
     const Pair& pair = pairs_[pair_index(p.body_p[i], face.body)];
     const double k = pair.modulus * area / size;
     double inverse_mass = 1 / p.m_p[i]; // 1/m_s + Σ N_a²/m_a: the pair's effective mass
@@ -428,7 +452,7 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
     chosen.N = nearest.N;
     chosen.stiffness = k;
     chosen.face_inverse_mass = inverse_mass - 1 / p.m_p[i];
-    ContactTotals sums;
+    ContactTerm sums;
     sums.omega2 = k * inverse_mass;
     if (gap >= 0)
       return sums;
@@ -446,10 +470,10 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
 ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) const {
   // Each row sums its own entries — as a slave, then as a face corner — in a fixed order.
   const IndexRange rows = IndexRange::of(ranks != nullptr ? ranks->own : nullptr, p.rows());
-  return deterministic_sum(rows.count, ContactTotals{}, [&](Index k) {
+  return contact_totals(rows.count, [&](Index k) {
     const Index i = rows[k];
     if (!in_pair_[p.body_p[i]])
-      return ContactTotals{};
+      return ContactTerm{};
     Vec3 f = Vec3::Zero();
     if (const Index s = slave_of_row_[i]; s >= 0)
       for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
@@ -472,7 +496,7 @@ ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) co
     p.fc_p[i] += f;
     if (i < real_ && f != Vec3::Zero())
       p.xsph_p[i].setZero(); // a pressed particle drifts with v, as in spheres()
-    ContactTotals sums;
+    ContactTerm sums;
     sums.omega2 = omega2;
     return sums;
   });

@@ -55,6 +55,7 @@
 // tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
+#include "solver/core/exact_sum.hpp"
 #include "solver/coupling/background_particles.hpp"
 #include "solver/coupling/contact_ranks.hpp"
 #include "solver/io/case.hpp"
@@ -72,10 +73,11 @@
 namespace sphfem {
 
 // What one evaluation of contact gives besides its forces and its energy (phi_p): over this
-// rank's rows and slaves.
+// rank's rows and slaves. The friction power is an exact sum (core/exact_sum.hpp), the same bits
+// however the slaves are shared among threads and ranks.
 struct ContactTotals {
-  double friction_power = 0; // power dissipated by friction now, W
-  double omega2 = 0;         // largest squared angular frequency of the contact springs, 1/s²
+  ExactSum friction_power; // power dissipated by friction now, W
+  double omega2 = 0;       // largest squared angular frequency of the contact springs, 1/s²
   ContactTotals& operator+=(const ContactTotals& o) {
     friction_power += o.friction_power;
     omega2 = std::max(omega2, o.omega2);

@@ -382,6 +382,10 @@ int Decomposition::particle_part_at(const Vec3& x, int current) const {
   return part_in(particle_regions, x, current);
 }
 
+double live_particle_cost(int neighbours) {
+  return StepCost::particle + StepCost::entry * neighbours;
+}
+
 EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbours_p,
                           std::span<const unsigned char> live_p,
                           std::span<const unsigned char> live_e) {
@@ -390,7 +394,7 @@ EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbo
     throw Error("decomposition: the state's particles or elements are not the decomposition's");
   EntityCosts now = costs;
   for (std::size_t i = 0; i < np; ++i)
-    now.particle[i] = live_p[i] ? StepCost::particle + StepCost::entry * neighbours_p[i] : 0.0;
+    now.particle[i] = live_p[i] ? live_particle_cost(neighbours_p[i]) : 0.0;
   for (std::size_t e = 0; e < ne; ++e)
     if (!live_e[e])
       now.element[e] = 0;
@@ -423,12 +427,15 @@ std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
 }
 
 double phase_imbalance(const Decomposition& d, const EntityCosts& costs) {
+  return phase_imbalance(phase_costs(d, costs));
+}
+
+double phase_imbalance(const PhaseCosts& c) {
   // Each phase waits for its slowest part: the worse of the two phases' imbalances.
-  const PhaseCosts c = phase_costs(d, costs);
-  const auto imbalance = [&d](const std::vector<double>& cost) {
+  const auto imbalance = [](const std::vector<double>& cost) {
     const double largest = *std::max_element(cost.begin(), cost.end());
     const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
-    return total > 0 ? largest * static_cast<double>(d.parts) / total : 1.0;
+    return total > 0 ? largest * static_cast<double>(cost.size()) / total : 1.0;
   };
   return std::max(imbalance(c.particle), imbalance(c.element));
 }

@@ -80,6 +80,9 @@ bool decomposition_available();
 // Zoltan.
 Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
 
+// A live particle's cost per step with `neighbours` entries in its list (killed: nothing).
+double live_particle_cost(int neighbours);
+
 // Each entity's cost per step at a later state of the run: a live particle costs
 // StepCost::particle + StepCost::entry × its current neighbour count, a live element its cost in
 // `costs`, a background particle its cost in `costs`; killed particles and eroded elements cost
@@ -108,5 +111,7 @@ PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs);
 // background particles, the elements'): what a step waits for. Throws sphfem::Error when the
 // costs are not of the decomposition's model.
 double phase_imbalance(const Decomposition& d, const EntityCosts& costs);
+// The same of each part's phase costs.
+double phase_imbalance(const PhaseCosts& c);
 
 } // namespace sphfem

@@ -1,5 +1,6 @@
 #include "solver/parallel/ranks.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
 #ifdef SPHFEM_HAVE_MPI
@@ -79,6 +80,28 @@ std::vector<double> gather_all(std::span<const double> values) {
   return all;
 }
 
+void sum_exactly(std::span<ExactSum> sums) {
+  if (size() == 1 || sums.empty())
+    return;
+  constexpr int n = ExactSum::limb_count;
+  std::vector<long long> limbs(sums.size() * n);
+  std::vector<double> special(sums.size());
+  for (std::size_t k = 0; k < sums.size(); ++k) {
+    const ExactSum::Limbs l = sums[k].limbs();
+    std::copy(l.begin(), l.end(), limbs.begin() + static_cast<std::ptrdiff_t>(k * n));
+    special[k] = sums[k].special();
+  }
+  // Integer sums: exact and the same in any grouping of the ranks.
+  MPI_Allreduce(MPI_IN_PLACE, limbs.data(), static_cast<int>(limbs.size()), MPI_LONG_LONG, MPI_SUM,
+                MPI_COMM_WORLD);
+  special = sum_in_rank_order(special); // ±∞, NaN or 0: the same in any order
+  for (std::size_t k = 0; k < sums.size(); ++k) {
+    ExactSum::Limbs l;
+    std::copy_n(limbs.begin() + static_cast<std::ptrdiff_t>(k * n), n, l.begin());
+    sums[k] = ExactSum::of(l, special[k]);
+  }
+}
+
 void barrier() {
   if (size() > 1)
     MPI_Barrier(MPI_COMM_WORLD);
@@ -113,6 +136,7 @@ std::vector<double> sum_in_rank_order(std::span<const double> values) {
 std::vector<double> gather_all(std::span<const double> values) {
   return {values.begin(), values.end()};
 }
+void sum_exactly(std::span<ExactSum>) {}
 void barrier() {}
 void abort(int code) {
   std::exit(code);

@@ -1,9 +1,11 @@
 // The ranks of a distributed run (issue 28) and the few collective operations the step needs:
 // the least of a value (the stable step: exact in any order), sums in rank order (so that a run
-// repeats bit for bit at a given rank count), a vote (stop, checkpoint) and an abort that ends
-// every rank when one fails mid-run. Without MPI, or not started by a launcher, this process is
-// rank 0 of 1 and each operation returns its own argument.
+// repeats bit for bit at a given rank count), exact sums (the same at any rank count), a vote
+// (stop, checkpoint) and an abort that ends every rank when one fails mid-run. Without MPI, or not
+// started by a launcher, this process is rank 0 of 1 and each operation returns its own argument.
 #pragma once
+
+#include "solver/core/exact_sum.hpp"
 
 #include <span>
 #include <vector>
@@ -24,6 +26,9 @@ double max(double value);
 // Element-wise sums over the ranks, added in rank order (0, 1, …): the same on every rank and on
 // every repeat.
 std::vector<double> sum_in_rank_order(std::span<const double> values);
+// Exact sums over the ranks (solver/core/exact_sum.hpp): each of `sums` becomes the total of
+// every rank's, the same bits as one process summing all the terms, in any order.
+void sum_exactly(std::span<ExactSum> sums);
 // Every rank's `values` (each the same length), concatenated in rank order.
 std::vector<double> gather_all(std::span<const double> values);
 // Waits for every rank.

@@ -176,14 +176,12 @@ Vec3 ParticleSystem::mirror_force() const {
   if (mirror_.empty())
     return Vec3::Zero();
   const auto& p = particles_;
-  const Vec3 mine = deterministic_sum(p.rows(), Vec3(Vec3::Zero()), [&](Index i) -> Vec3 {
-    return share_ && !share_->owns[i] ? Vec3(Vec3::Zero()) : p.fm_p[i];
+  ExactSums<3> sum = exact_sums<3>(IndexRange::of(own_rows(), p.rows()), [&](Index i) {
+    return std::array{p.fm_p[i].x(), p.fm_p[i].y(), p.fm_p[i].z()};
   });
-  if (!share_)
-    return mine;
-  const std::vector<double> all =
-      ranks::sum_in_rank_order(std::array{mine.x(), mine.y(), mine.z()});
-  return {all[0], all[1], all[2]};
+  if (share_)
+    ranks::sum_exactly(sum);
+  return {sum[0].value(), sum[1].value(), sum[2].value()};
 }
 
 void ParticleSystem::kick(double dt_v) {

@@ -76,7 +76,7 @@ public:
   // rows must hold the current state of what they stand for (their owner refreshes them first).
   void update(double dt);
   // Force of the symmetry planes (mirror images) on the particles at the last evaluation, N:
-  // an external reaction for the momentum balance.
+  // an external reaction for the momentum balance. An exact sum over the ranks (collective).
   Vec3 mirror_force() const;
   // Stable step of the particles, s (∞ without particles).
   double stable_dt() const { return dt_stable_; }

@@ -91,9 +91,8 @@ ReactionTotals Constraints::apply(double t_half, double dt, const std::vector<do
     if (!counted.empty() && !counted[i])
       continue;
     const Vec3 impulse = m[i] * (v_half[i] - v_free_[k]);
-    totals.impulse += impulse;
     const Vec3 v_old = v_free_[k] - dt * f[i] / m[i];
-    totals.work += impulse.dot(0.5 * (v_old + v_half[i]));
+    totals.add(impulse.dot(0.5 * (v_old + v_half[i])), impulse);
   }
   return totals;
 }

@@ -5,6 +5,7 @@
 // Verified by tests/fem/constraints_test.cpp and the plane-wave test.
 #pragma once
 
+#include "solver/core/exact_sum.hpp"
 #include "solver/core/time_function.hpp"
 #include "solver/core/types.hpp"
 #include "solver/io/case.hpp"
@@ -17,9 +18,17 @@
 
 namespace sphfem {
 
+// The work and impulse of reactions or loads over a step, as exact sums (core/exact_sum.hpp):
+// the same bits however the nodes or particles are shared among ranks.
 struct ReactionTotals {
-  double work = 0;             // J, over the step
-  Vec3 impulse = Vec3::Zero(); // N s, over the step
+  ExactSums<4> sums; // work (J), impulse x, y, z (N s)
+  void add(double work, const Vec3& impulse) {
+    sums[0].add(work);
+    for (int d = 0; d < 3; ++d)
+      sums[1 + d].add(impulse[d]);
+  }
+  double work() const { return sums[0].value(); }
+  Vec3 impulse() const { return {sums[1].value(), sums[2].value(), sums[3].value()}; }
 };
 
 class Constraints {

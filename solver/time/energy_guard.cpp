@@ -61,8 +61,8 @@ std::string fastest_entity(const Simulation& sim) {
 } // namespace
 
 void EnergyGuard::check(const Simulation& sim, const Energies& e) {
-  const double error = sim.balance_error(e);
-  if (sim.time() >= quiet_until_ && error > limit_) {
+  if (trips(sim, e)) {
+    const double error = sim.balance_error(e);
     const double excess = e.total() - e.external_work - sim.initial_energy();
     throw Error(detail::concat(
         "energy balance error ", format("%.3g", 100 * error),

@@ -20,6 +20,10 @@ public:
   // before which nothing is checked.
   EnergyGuard(double limit, double quiet_until) : limit_(limit), quiet_until_(quiet_until) {}
 
+  // Whether check(sim, e) throws.
+  bool trips(const Simulation& sim, const Energies& e) const {
+    return sim.time() >= quiet_until_ && sim.balance_error(e) > limit_;
+  }
   // Throws Error when e's balance error passes the limit; otherwise remembers e.
   void check(const Simulation& sim, const Energies& e);
 

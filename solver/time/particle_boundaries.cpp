@@ -79,8 +79,7 @@ ReactionTotals ParticleBoundaries::apply(double t, double t_half, double dt_v,
       const Vec3 impulse = (-dt_v * pressure * load.area[k]) * load.normal;
       const Vec3 v_old = p.v_p[i] - (dt_v / p.m_p[i]) * p.f_p[i]; // v^{n−½}
       p.v_p[i] += impulse / p.m_p[i];
-      totals.impulse += impulse;
-      totals.work += impulse.dot(0.5 * (v_old + p.v_p[i]));
+      totals.add(impulse.dot(0.5 * (v_old + p.v_p[i])), impulse);
     }
   }
   for (const auto& c : constraints_) {
@@ -97,8 +96,7 @@ ReactionTotals ParticleBoundaries::apply(double t, double t_half, double dt_v,
         }
       const Vec3 impulse = p.m_p[i] * (p.v_p[i] - v_free);
       const Vec3 v_old = v_free - (dt_v / p.m_p[i]) * p.f_p[i];
-      totals.impulse += impulse;
-      totals.work += impulse.dot(0.5 * (v_old + p.v_p[i]));
+      totals.add(impulse.dot(0.5 * (v_old + p.v_p[i])), impulse);
     }
   }
   return totals;

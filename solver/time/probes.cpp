@@ -2,6 +2,7 @@
 
 #include "solver/core/error.hpp"
 #include "solver/fem/nodal_stress.hpp"
+#include "solver/parallel/ranks.hpp"
 
 #include <limits>
 
@@ -54,21 +55,38 @@ void probe_values(const std::vector<Probe>& probes, const Simulation& sim,
                   std::vector<double>& row) {
   const auto& nodes = sim.nodes();
   const auto& part = sim.particle_system().particles();
+  // Each probe's values from the rank keeping its entity current (every rank on one process):
+  // a flag saying so, then its 14 values.
+  constexpr std::size_t width = 15;
+  std::vector<double> mine;
   for (const auto& p : probes) {
     Vec3 u, v;
     Mat3 s;
+    bool owner = false;
     if (p.on_particle) {
       const Index i = sim.particle_system().index_of(p.node);
+      owner = sim.owns_row(i);
       u = part.x_p[i] - part.x0_p[i];
       v = part.v_p[i];
       s = part.S_p[i] - part.p_p[i] * Mat3::Identity();
     } else {
+      owner = sim.owns_node(p.node);
       u = nodes.x_n[p.node] - nodes.x0_n[p.node];
       v = nodes.v_n[p.node];
       s = nodal_stress(sim.elements(), sim.node_gather(), p.node);
     }
-    row.insert(row.end(), {u.x(), u.y(), u.z(), v.x(), v.y(), v.z(), s(0, 0), s(1, 1), s(2, 2),
-                           s(0, 1), s(1, 2), s(2, 0), -s.trace() / 3.0, von_mises(s)});
+    mine.insert(mine.end(),
+                {owner ? 1.0 : 0.0, u.x(), u.y(), u.z(), v.x(), v.y(), v.z(), s(0, 0), s(1, 1),
+                 s(2, 2), s(0, 1), s(1, 2), s(2, 0), -s.trace() / 3.0, von_mises(s)});
+  }
+  const std::vector<double> all = ranks::gather_all(mine);
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    std::size_t at = k * width;
+    while (at < all.size() && all[at] == 0)
+      at += mine.size(); // the next rank's block
+    SPHFEM_CHECK(at < all.size(), "probe ", probes[k].name, ": no rank keeps its entity");
+    row.insert(row.end(), all.begin() + static_cast<std::ptrdiff_t>(at + 1),
+               all.begin() + static_cast<std::ptrdiff_t>(at + width));
   }
 }
 

@@ -26,6 +26,8 @@ std::vector<Probe> locate_probes(const Case& c, const Model& model);
 
 // Column names in the order probe_values() fills them.
 std::vector<std::string> probe_columns(const std::vector<Probe>& probes);
+// Appends each probe's values, taken by the rank that keeps its node or particle current.
+// Collective in a distributed run.
 void probe_values(const std::vector<Probe>& probes, const Simulation& sim,
                   std::vector<double>& row);
 

@@ -121,8 +121,9 @@ void check_restart(const std::filesystem::path& file, const CheckpointMeta& meta
 
 nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& options) {
   const auto& out = options.out_dir;
-  // A distributed run: every rank steps its share; rank 0 alone writes (its arrays are made
-  // whole by Simulation::gather_state before each output) and speaks.
+  // A distributed run: every rank steps its share; rank 0 alone writes the history (its rows are
+  // sums over the ranks) and the checkpoint (its arrays are made whole by
+  // Simulation::gather_state first) and speaks; each rank writes its piece of a frame.
   const bool writer = ranks::rank() == 0;
   std::optional<Decomposition> decomposition;
   EntityCosts costs;
@@ -210,6 +211,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     a.value("run/next_history", next_history);
   };
   const auto checkpoint = [&] {
+    sim.gather_state();
     if (!writer)
       return;
     write_checkpoint(out / "checkpoint.h5",
@@ -277,9 +279,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     const bool checkpoint_due =
         !last && ((every.steps > 0 && sim.steps() % every.steps == 0) || wall_due);
     if (history_due || frame_due || signal != 0 || checkpoint_due) {
-      sim.gather_state();
       if (decomposition && options.rebalance > 0) {
-        // The whole state is on every rank now: the moment to share it out anew.
         const Rebalance r = sim.rebalance(model, costs, options.rebalance);
         if (r.done) {
           ++rebalances;
@@ -296,6 +296,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       history_row(sim, dt, probes, in_contact, e, row);
       history.append(row);
       try {
+        if (decomposition && guard.trips(sim, e))
+          sim.gather_state(); // its message names the fastest entity of all
         guard.check(sim, e);
       } catch (const Error&) {
         progress.finish();

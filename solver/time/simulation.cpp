@@ -14,20 +14,6 @@
 
 namespace sphfem {
 
-namespace {
-
-struct WorkAndImpulse {
-  double work = 0;
-  Vec3 impulse = Vec3::Zero();
-  WorkAndImpulse& operator+=(const WorkAndImpulse& o) {
-    work += o.work;
-    impulse += o.impulse;
-    return *this;
-  }
-};
-
-} // namespace
-
 Simulation::Simulation(const Case& c, const Model& model, const Decomposition* decomposition)
     : cfl_(c.time.cfl), fem_(c.fem), body_names_(model.body_names) {
   SPHFEM_CHECK(model.body_names.size() == c.bodies.size(),
@@ -150,8 +136,28 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   Rebalance r;
   if (!subdomain_)
     return r;
-  // The costs now, by model entity (particles are stored in cell order).
+  // This rank's cost per step in each phase now, over what it steps, and every rank's.
   const Particles& p = particles_.particles();
+  double particle_cost = 0, element_cost = 0;
+  const IndexRange real = own_rows(0, p.size()), attached = own_rows(p.size(), p.rows());
+  for (Index k = 0; k < real.count; ++k)
+    if (p.kill_p[real[k]] != Kill::Tension)
+      particle_cost += live_particle_cost(p.neighbours_p[real[k]]);
+  for (Index k = 0; k < attached.count; ++k)
+    particle_cost += reference.background[attached[k] - p.size()];
+  for (const Index k : subdomain_->elements)
+    element_cost += elements_.eroded_e[k] == 0 ? reference.element[k] : 0;
+  const std::vector<double> each = ranks::gather_all(std::array{particle_cost, element_cost});
+  PhaseCosts phases;
+  for (std::size_t q = 0; q < each.size(); q += 2) {
+    phases.particle.push_back(each[q]);
+    phases.element.push_back(each[q + 1]);
+  }
+  r.before = r.after = phase_imbalance(phases);
+  if (!(r.before > threshold))
+    return r;
+  // The costs now, by model entity (particles are stored in cell order), from the whole state.
+  gather_state();
   const Index np = p.size(), ne = elements_.size();
   std::vector<int> neighbours(static_cast<std::size_t>(np));
   std::vector<unsigned char> live_p(static_cast<std::size_t>(np)), live_e(ne);
@@ -162,9 +168,6 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   for (Index k = 0; k < ne; ++k)
     live_e[k] = elements_.eroded_e[k] == 0;
   const EntityCosts now = current_costs(reference, neighbours, live_p, live_e);
-  r.before = r.after = phase_imbalance(decomposition_, now);
-  if (!(r.before > threshold))
-    return r;
   Model here = model; // the entities where they are now
   here.x_n = nodes_.x_n;
   for (Index i = 0; i < np; ++i)
@@ -212,7 +215,6 @@ void Simulation::step(double dt) {
   auto& v = nodes_.v_n;
   auto& f = nodes_.f_int_n;
   const auto& m = nodes_.m_n;
-  const Index n = nodes_.size();
 
   // Velocities live at half steps, so with a varying step they advance over the mean of the
   // two neighbouring position steps (½Δt on the first step, which starts from v⁰ at t = 0).
@@ -238,52 +240,39 @@ void Simulation::step(double dt) {
   if (!particle_boundaries_.empty())
     on_particles = particle_boundaries_.apply(time_, time_ + 0.5 * dt, dt_v, particles_);
 
-  // The loads' and the constraints' work and impulse: over the nodes this rank owns, then
-  // summed over the ranks in rank order.
+  // The loads' and the constraints' work and impulse: exact sums over the nodes and particles
+  // this rank owns, then over the ranks (the single process's bits).
   const std::span<const unsigned char> own =
       subdomain_ ? std::span<const unsigned char>(subdomain_->owns_n)
                  : std::span<const unsigned char>();
-  WorkAndImpulse loaded;
+  ReactionTotals loaded;
   if (!loads_.empty())
-    loaded = deterministic_sum(n, WorkAndImpulse{}, [&](Index i) {
-      if (!own.empty() && !own[i])
-        return WorkAndImpulse{};
+    loaded.sums = exact_sums<4>(own_nodes(), [&](Index i) {
       const Vec3& fe = nodes_.f_ext_n[i];
       const Vec3 v_old = v[i] - (dt_v / m[i]) * f[i];
-      return WorkAndImpulse{dt_v * fe.dot(0.5 * (v_old + v[i])), dt_v * fe};
+      const Vec3 impulse = dt_v * fe;
+      return std::array{dt_v * fe.dot(0.5 * (v_old + v[i])), impulse.x(), impulse.y(), impulse.z()};
     });
   ReactionTotals reactions = constraints_.apply(time_ + 0.5 * dt, dt_v, m, f, v, own);
   if (subdomain_) {
-    const std::array<double, 12> local{on_particles.work,
-                                       on_particles.impulse.x(),
-                                       on_particles.impulse.y(),
-                                       on_particles.impulse.z(),
-                                       loaded.work,
-                                       loaded.impulse.x(),
-                                       loaded.impulse.y(),
-                                       loaded.impulse.z(),
-                                       reactions.work,
-                                       reactions.impulse.x(),
-                                       reactions.impulse.y(),
-                                       reactions.impulse.z()};
-    const std::vector<double> total = ranks::sum_in_rank_order(local);
-    on_particles = {total[0], Vec3(total[1], total[2], total[3])};
-    loaded = {total[4], Vec3(total[5], total[6], total[7])};
-    reactions = {total[8], Vec3(total[9], total[10], total[11])};
+    ExactSums<12> all;
+    for (int k = 0; k < 4; ++k)
+      all[k] = on_particles.sums[k], all[4 + k] = loaded.sums[k], all[8 + k] = reactions.sums[k];
+    ranks::sum_exactly(all);
+    for (int k = 0; k < 4; ++k)
+      on_particles.sums[k] = all[k], loaded.sums[k] = all[4 + k], reactions.sums[k] = all[8 + k];
   }
-  if (!particle_boundaries_.empty()) {
-    external_work_ += on_particles.work;
-    external_impulse_ += on_particles.impulse;
-    impulse_scale_ += on_particles.impulse.norm();
-  }
-  if (!loads_.empty()) {
-    external_work_ += loaded.work;
-    external_impulse_ += loaded.impulse;
-    impulse_scale_ += loaded.impulse.norm();
-  }
-  external_work_ += reactions.work;
-  external_impulse_ += reactions.impulse;
-  impulse_scale_ += reactions.impulse.norm();
+  const auto account = [this](const ReactionTotals& t) {
+    const Vec3 impulse = t.impulse();
+    external_work_ += t.work();
+    external_impulse_ += impulse;
+    impulse_scale_ += impulse.norm();
+  };
+  if (!particle_boundaries_.empty())
+    account(on_particles);
+  if (!loads_.empty())
+    account(loaded);
+  account(reactions);
   ties_.follow(particles_.particles(), nodes_, index_of);
 
   for_own_nodes([&](Index i) { x[i] += dt * v[i]; });
@@ -348,29 +337,49 @@ void Simulation::persist(StateArchive& a) {
   contact_.persist(a);
 }
 
+IndexRange Simulation::own_nodes() const {
+  return IndexRange::of(subdomain_ ? &subdomain_->nodes : nullptr, nodes_.size());
+}
+
+IndexRange Simulation::own_element_range() const {
+  return IndexRange::of(subdomain_ ? &subdomain_->elements : nullptr, elements_.size());
+}
+
+IndexRange Simulation::own_rows(Index begin, Index end) const {
+  return IndexRange::of(particles_.own_rows(), begin, end);
+}
+
 Energies Simulation::energies() const {
-  Energies out;
   const auto& p = particles_.particles();
-  out.kinetic = deterministic_sum(
-                    nodes_.size(), 0.0,
-                    [&](Index i) { return 0.5 * nodes_.m_n[i] * nodes_.v_n[i].squaredNorm(); }) +
-                deterministic_sum(p.size(), 0.0,
-                                  [&](Index i) { return 0.5 * p.m_p[i] * p.v_p[i].squaredNorm(); });
+  const auto& n = nodes_;
+  const auto& e = elements_;
   // Kinetic energy is that of v^{n+½}; the internal energy is taken at the same half step,
   // half-way through the last stress update (else a vibrating body shows an energy
   // oscillation of relative size ω Δt / 2).
   // An eroded element's energy moves from internal and hourglass to eroded.
-  const auto& e = elements_;
-  const auto internal = [&](Index k) { return e.e_int_e[k] - 0.5 * e.de_int_e[k]; };
-  out.internal =
-      deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : internal(k); }) +
-      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.e_p[i] - 0.5 * p.de_p[i]; }) +
-      background_.energy(particles_.particles());
-  out.hourglass =
-      deterministic_sum(e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? 0.0 : e.e_hg_e[k]; });
-  out.eroded = deterministic_sum(
-      e.size(), 0.0, [&](Index k) { return e.eroded_e[k] ? internal(k) + e.e_hg_e[k] : 0.0; });
-  out.contact = contact_.energy(particles_.particles());
+  ExactSums<5> sum; // kinetic, internal, hourglass, eroded, contact
+  add_to(sum, exact_sums<5>(own_nodes(), [&](Index i) {
+           return std::array{0.5 * n.m_n[i] * n.v_n[i].squaredNorm(), 0.0, 0.0, 0.0, 0.0};
+         }));
+  add_to(sum, exact_sums<5>(own_rows(0, p.size()), [&](Index i) {
+           return std::array{0.5 * p.m_p[i] * p.v_p[i].squaredNorm(), p.e_p[i] - 0.5 * p.de_p[i],
+                             0.0, 0.0, 0.0};
+         }));
+  add_to(sum, exact_sums<5>(own_element_range(), [&](Index k) {
+           const double internal = e.e_int_e[k] - 0.5 * e.de_int_e[k];
+           return e.eroded_e[k] ? std::array{0.0, 0.0, 0.0, internal + e.e_hg_e[k], 0.0}
+                                : std::array{0.0, internal, e.e_hg_e[k], 0.0, 0.0};
+         }));
+  sum[1] += background_.energy(p, own_rows(p.size(), p.rows()));
+  sum[4] += contact_.energy(p, own_rows(0, p.rows()));
+  if (subdomain_)
+    ranks::sum_exactly(sum);
+  Energies out;
+  out.kinetic = sum[0].value();
+  out.internal = sum[1].value();
+  out.hourglass = sum[2].value();
+  out.eroded = sum[3].value();
+  out.contact = sum[4].value();
   out.friction = friction_work_;
   out.external_work = external_work_;
   return out;
@@ -386,10 +395,18 @@ double Simulation::balance_error(const Energies& e) const {
 
 Vec3 Simulation::momentum() const {
   const auto& p = particles_.particles();
-  return deterministic_sum(nodes_.size(), Vec3(Vec3::Zero()),
-                           [&](Index i) -> Vec3 { return nodes_.m_n[i] * nodes_.v_n[i]; }) +
-         deterministic_sum(p.size(), Vec3(Vec3::Zero()),
-                           [&](Index i) -> Vec3 { return p.m_p[i] * p.v_p[i]; });
+  const auto& n = nodes_;
+  ExactSums<3> sum = exact_sums<3>(own_nodes(), [&](Index i) {
+    const Vec3 q = n.m_n[i] * n.v_n[i];
+    return std::array{q.x(), q.y(), q.z()};
+  });
+  add_to(sum, exact_sums<3>(own_rows(0, p.size()), [&](Index i) {
+           const Vec3 q = p.m_p[i] * p.v_p[i];
+           return std::array{q.x(), q.y(), q.z()};
+         }));
+  if (subdomain_)
+    ranks::sum_exactly(sum);
+  return {sum[0].value(), sum[1].value(), sum[2].value()};
 }
 
 double Simulation::momentum_drift() const {
@@ -399,51 +416,69 @@ double Simulation::momentum_drift() const {
 }
 
 std::vector<BodyTotals> Simulation::bodies() const {
-  // Per body: Σ m, Σ m v and ½ Σ m v² over its nodes and particles, and the internal energy of
-  // its particles and elements (a masked deterministic sum each). The energy stored by the
-  // attachment coupling (background particles) belongs to no body: the bodies' internal
-  // energies add up to energy.internal less that.
-  struct BodySums {
-    double m = 0, kinetic = 0, internal = 0;
-    Vec3 p = Vec3::Zero();
-    BodySums& operator+=(const BodySums& o) {
-      m += o.m;
-      kinetic += o.kinetic;
-      internal += o.internal;
-      p += o.p;
-      return *this;
-    }
-  };
+  // Per body: Σ m, ½ Σ m v², Σ m v over its nodes and particles, the internal energy of its
+  // particles and live elements, the contact force on it, its killed particles and eroded
+  // elements — exact sums over what each rank keeps current. The energy stored by the attachment
+  // coupling (background particles) belongs to no body: the bodies' internal energies add up to
+  // energy.internal less that.
+  constexpr std::size_t K = 11; // m, kinetic, internal, m v (3), contact force (3), killed, eroded
   const auto& part = particles_.particles();
+  const auto& n = nodes_;
   const auto& e = elements_;
+  const auto body_count = body_names_.size();
+  std::vector<ExactSum> sum(K * body_count);
+  for (std::size_t b = 0; b < body_count; ++b) {
+    const int body = static_cast<int>(b);
+    ExactSums<K> s = exact_sums<K>(own_nodes(), [&](Index i) {
+      const double m = n.m_n[i];
+      const Vec3& v = n.v_n[i];
+      if (n.body_n[i] != body)
+        return std::array<double, K>{};
+      return std::array<double, K>{
+          m, 0.5 * m * v.squaredNorm(), 0, m * v.x(), m * v.y(), m * v.z(), 0, 0, 0, 0, 0};
+    });
+    add_to(s, exact_sums<K>(own_rows(0, part.size()), [&](Index i) {
+             const double m = part.m_p[i];
+             const Vec3& v = part.v_p[i];
+             if (part.body_p[i] != body)
+               return std::array<double, K>{};
+             return std::array<double, K>{m,
+                                          0.5 * m * v.squaredNorm(),
+                                          part.e_p[i] - 0.5 * part.de_p[i],
+                                          m * v.x(),
+                                          m * v.y(),
+                                          m * v.z(),
+                                          0,
+                                          0,
+                                          0,
+                                          part.kill_p[i] != Kill::None ? 1.0 : 0.0,
+                                          0};
+           }));
+    add_to(s, exact_sums<K>(own_element_range(), [&](Index k) {
+             if (e.body_e[k] != body)
+               return std::array<double, K>{};
+             if (e.eroded_e[k])
+               return std::array<double, K>{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1.0};
+             return std::array<double, K>{0, 0, e.e_int_e[k] - 0.5 * e.de_int_e[k]};
+           }));
+    const ExactSums<3> contact = contact_.force_on(part, body, own_rows(0, part.rows()));
+    for (std::size_t j = 0; j < 3; ++j)
+      s[6 + j] += contact[j];
+    std::copy(s.begin(), s.end(), sum.begin() + static_cast<std::ptrdiff_t>(K * b));
+  }
+  if (subdomain_)
+    ranks::sum_exactly(sum);
   std::vector<BodyTotals> out;
-  for (int b = 0; b < static_cast<int>(body_names_.size()); ++b) {
-    BodySums sum = deterministic_sum(nodes_.size(), BodySums{}, [&](Index i) {
-      const double m = nodes_.m_n[i];
-      const Vec3& v = nodes_.v_n[i];
-      return nodes_.body_n[i] == b ? BodySums{m, 0.5 * m * v.squaredNorm(), 0, m * v} : BodySums{};
-    });
-    sum += deterministic_sum(part.size(), BodySums{}, [&](Index i) {
-      const double m = part.m_p[i];
-      const Vec3& v = part.v_p[i];
-      return part.body_p[i] == b
-                 ? BodySums{m, 0.5 * m * v.squaredNorm(), part.e_p[i] - 0.5 * part.de_p[i], m * v}
-                 : BodySums{};
-    });
-    sum += deterministic_sum(e.size(), BodySums{}, [&](Index k) {
-      return e.body_e[k] == b && !e.eroded_e[k]
-                 ? BodySums{0, 0, e.e_int_e[k] - 0.5 * e.de_int_e[k], Vec3::Zero()}
-                 : BodySums{};
-    });
-    const Vec3 contact = contact_.force_on(part, b);
-    BodyTotals totals{body_names_[b], sum.m, sum.m > 0 ? Vec3(sum.p / sum.m) : Vec3(Vec3::Zero()),
-                      contact};
-    totals.kinetic = sum.kinetic;
-    totals.internal = sum.internal;
-    for (Index i = 0; i < part.size(); ++i)
-      totals.killed_particles += part.body_p[i] == b && part.kill_p[i] != Kill::None;
-    for (Index k = 0; k < elements_.size(); ++k)
-      totals.eroded_elements += elements_.body_e[k] == b && elements_.eroded_e[k];
+  for (std::size_t b = 0; b < body_count; ++b) {
+    const auto value = [&](std::size_t j) { return sum[K * b + j].value(); };
+    const double mass = value(0);
+    const Vec3 momentum(value(3), value(4), value(5));
+    BodyTotals totals{body_names_[b], mass, mass > 0 ? Vec3(momentum / mass) : Vec3(Vec3::Zero()),
+                      Vec3(value(6), value(7), value(8))};
+    totals.kinetic = value(1);
+    totals.internal = value(2);
+    totals.killed_particles = static_cast<Index>(value(9));
+    totals.eroded_elements = static_cast<Index>(value(10));
     out.push_back(totals);
   }
   return out;

@@ -7,6 +7,7 @@
 // tests/fem/conservation_test.cpp.
 #pragma once
 
+#include "solver/core/exact_sum.hpp"
 #include "solver/coupling/background_particles.hpp"
 #include "solver/coupling/contact.hpp"
 #include "solver/coupling/interface_ties.hpp"
@@ -85,15 +86,15 @@ public:
   // The contact springs' step as a fraction of their critical step 2/ω.
   static constexpr double contact_step_factor = 0.3;
   void step(double dt);
-  // A distributed run: every rank's share into this rank's arrays, so that energies, bodies,
-  // probes, frames and checkpoints see the whole state, as on one process. Collective; nothing
-  // to do on one process.
+  // A distributed run: every rank's share into this rank's arrays, so that a checkpoint (or a
+  // new decomposition) sees the whole state, as on one process. Collective; nothing to do on
+  // one process.
   void gather_state();
-  // A distributed run, just after gather_state(): when the decomposition's imbalance at the
-  // entities' current costs (parallel/decomposition.hpp: current_costs of `reference`, the run's
-  // costs at t = 0; killed particles and eroded elements cost nothing, a particle's neighbours
-  // are counted now) exceeds `threshold`, a new decomposition of the entities where they are
-  // now, each rank taking its share of the whole state it then holds. The per-entity arithmetic
+  // A distributed run: when the decomposition's imbalance at the entities' current costs
+  // (parallel/decomposition.hpp: current_costs of `reference`, the run's costs at t = 0; killed
+  // particles and eroded elements cost nothing, a particle's neighbours are counted now; each
+  // rank sums its own) exceeds `threshold`, the state is gathered and the entities decomposed
+  // where they are now, each rank taking its share of the whole state. The per-entity arithmetic
   // is the same under any decomposition, so the run stays the single process's (only the
   // rank-order sums of the loads' and supports' work may change their last digit). Kept when
   // the new one would not be better. Collective; nothing to do on one process.
@@ -113,6 +114,13 @@ public:
   std::span<const Index> own_elements() const {
     return subdomain_ ? std::span<const Index>(subdomain_->elements) : std::span<const Index>();
   }
+  // Whether this rank keeps the state of a node, or of a particle row, current (always on one
+  // process): its owner, which the history's probes read.
+  bool owns_node(Index i) const { return !subdomain_ || subdomain_->owns_n[i]; }
+  bool owns_row(Index row) const {
+    const std::span<const unsigned char> owned = particles_.owned_rows();
+    return owned.empty() || owned[row];
+  }
 
   double time() const { return time_; }
   long long steps() const { return steps_; }
@@ -125,6 +133,9 @@ public:
   const std::vector<std::string>& body_names() const { return body_names_; }
   double initial_energy() const { return initial_energy_; } // J, E0 of the balance
 
+  // The balances and the bodies' sums are exact sums (core/exact_sum.hpp) over the entities each
+  // rank keeps current, summed over the ranks: the single process's bits at any rank count,
+  // without gathering the state. Collective in a distributed run.
   Energies energies() const;
   // |E_kin + E_int + E_hg + E_contact + E_eroded + E_friction − W_ext − E_0| /
   // max(E_kin + E_int, |W_ext|, E_0).
@@ -143,6 +154,11 @@ public:
 private:
   // f(i) for each node this rank steps (all on one process), in parallel.
   template <class F> void for_own_nodes(F f);
+  // The nodes, elements and particle rows in [begin, end) whose state this rank keeps current
+  // (all on one process).
+  IndexRange own_nodes() const;
+  IndexRange own_element_range() const;
+  IndexRange own_rows(Index begin, Index end) const;
   // A distributed run whose contact surfaces follow erosion: when the elements eroded over all
   // ranks change in number, every rank learns each element's state (the elements a rank does
   // not compute keep old flags otherwise). Collective.
