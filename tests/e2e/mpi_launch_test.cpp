@@ -7,7 +7,8 @@
 // pressed face to face (surface contact both ways, across the ranks' cuts), a Johnson–Cook bar
 // pulled until its elements erode, a quarter block of particles crushed on a fixed face across
 // two symmetry planes until most of its particles are killed, that block's checkpoint written on
-// 2 ranks continued on 3, and the first 30 µs of the coarse Børvik shot. Their frames are one
+// 2 ranks continued on 3, and the first 30 µs of the coarse Børvik shot; the halo a run's ranks
+// receive is what the partition census counts. Their frames are one
 // piece per rank that the post tool reads as the single process's frames. The commands that do
 // not share their work are refused on several ranks before anything is written.
 // mpirun runs as root in CI, hence --allow-run-as-root; --oversubscribe lets three ranks start
@@ -210,6 +211,35 @@ TEST(MpiLaunch, ElasticParticleBarOnTwoAndThreeRanksIsTheOneProcessRun) {
 
 TEST(MpiLaunch, AttachedBarOnTwoAndThreeRanksIsTheOneProcessRun) {
   expect_ranks_repeat_one_process(source + "bar_pressed/case.yaml", "mpi_bar_pressed");
+}
+
+TEST(MpiLaunch, TheRanksHaloIsWhatThePartitionCensusCounts) {
+  // The halo a run's ranks receive (its exchange lists: halo rows, nodes of their elements that
+  // others own, background particles filled or returned across ranks) over what they own, as
+  // summary.json reports it, against `sphfem partition`'s census of the same decomposition,
+  // counted apart from the run (ghost points within h_i + h_j + skin, foreign nodes): at the
+  // start, before the particles move, the two agree — particles, hexahedra, their attachment.
+  const sphfem::test::Scratch scratch("mpi_halo_census");
+  const std::string case_file = source + "bar_pressed/case.yaml";
+  for (int ranks : {2, 3}) {
+    const fs::path run = scratch.dir / ("run" + std::to_string(ranks));
+    const fs::path census = scratch.dir / ("census" + std::to_string(ranks));
+    const auto r = sphfem_on(
+        ranks, "run " + case_file + " -o " + run.string() + quiet + " --set time.end=2e-6",
+        scratch.dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto p = sphfem_on(
+        0, "partition " + case_file + " -o " + census.string() + " -n " + std::to_string(ranks),
+        scratch.dir);
+    ASSERT_EQ(p.code, 0) << p.err;
+    const auto measured = nlohmann::json::parse(slurp(run / "summary.json"))["halo_fraction"];
+    const auto counted = nlohmann::json::parse(slurp(census / "partition.json"))["halo_fraction"];
+    for (const char* which : {"mean", "max"}) {
+      const double m = measured[which], c = counted[which];
+      EXPECT_GT(c, 0.01) << which;
+      EXPECT_NEAR(m, c, 1e-12 * c) << which << ", " << ranks << " ranks";
+    }
+  }
 }
 
 TEST(MpiLaunch, BarsInKernelContactOnTwoAndThreeRanksAreTheOneProcessRun) {
