@@ -3,8 +3,8 @@
 # 2 ranks × 1 thread and 1 rank × 2 threads, in alternating rounds, best wall time of each
 # (summary.json's wall_s: the time loop, meshing and start-up excluded). Prints a Markdown table
 # with the speed-ups and the halo bytes the ranks sent per entity-step; compares the two ranks'
-# history with the single process's, column by column (the state is the same bit for bit; the
-# works of supports and symmetry planes, summed in rank order, may differ in their last digits).
+# history with the single process's, column by column (identical since the sums are exact,
+# 2026-12-06; before, the works of supports and symmetry planes differed in their last digits).
 #   bench/mpi_speedup.sh [SPHFEM=build/app/sphfem] [ROUNDS=3] [OUT=/tmp/sphfem_mpi_speedup]
 #                        [END=4e-5] [CASES="fe_bar sph_bar borvik_coarse borvik_standard"]
 # END: the Børvik shots' time.end (3e-4: the whole shot); CASES: which cases to measure.
