@@ -183,7 +183,7 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
 }
 
 template <class F> void Simulation::for_own_nodes(F f) {
-  const IndexRange own = IndexRange::of(subdomain_ ? &subdomain_->nodes : nullptr, nodes_.size());
+  const IndexRange own = own_nodes();
 #pragma omp parallel for schedule(static) if (own.count > parallel_min_items)
   for (Index j = 0; j < own.count; ++j)
     f(own[j]);

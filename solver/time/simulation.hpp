@@ -95,9 +95,9 @@ public:
   // particles and eroded elements cost nothing, a particle's neighbours are counted now; each
   // rank sums its own) exceeds `threshold`, the state is gathered and the entities decomposed
   // where they are now, each rank taking its share of the whole state. The per-entity arithmetic
-  // is the same under any decomposition, so the run stays the single process's (only the
-  // rank-order sums of the loads' and supports' work may change their last digit). Kept when
-  // the new one would not be better. Collective; nothing to do on one process.
+  // is the same under any decomposition and the sums are exact, so the run stays the single
+  // process's bit for bit. Kept when the new one would not be better. Collective; nothing to do on
+  // one process.
   Rebalance rebalance(const Model& model, const EntityCosts& reference, double threshold);
   // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
   long long halo_bytes() const;
