@@ -4,6 +4,7 @@
 #include "solver/parallel/ranks.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #ifdef SPHFEM_HAVE_MPI
 #include <mpi.h>
@@ -16,6 +17,12 @@ long long HaloExchange::count(const std::vector<std::vector<Index>>& lists) {
   for (const auto& list : lists)
     n += static_cast<long long>(list.size());
   return n;
+}
+
+void HaloExchange::release() {
+  for (auto* buffers : {&send_buffer_, &receive_buffer_})
+    for (auto& buffer : *buffers)
+      std::vector<std::byte>().swap(buffer);
 }
 
 #ifdef SPHFEM_HAVE_MPI
@@ -66,28 +73,48 @@ HaloExchange::HaloExchange(std::span<const int> owner, std::span<const Index> re
   receive_buffer_.resize(n);
 }
 
-void HaloExchange::transfer() {
+void HaloExchange::transfer(std::size_t unit) {
   const int n = static_cast<int>(send_.size());
+  // Counted in bytes while every message's bytes fit in MPI's int count (Open MPI's fastest
+  // path); in entities of `unit` bytes beyond (an MPI type of that size) — a gather's message
+  // grows with the model.
+  std::size_t largest = 0;
+  for (int r = 0; r < n; ++r)
+    largest = std::max({largest, send_buffer_[r].size(), receive_buffer_[r].size()});
+  const std::size_t int_max = std::numeric_limits<int>::max();
+  SPHFEM_CHECK(largest / unit <= int_max, "halo: a message of ", largest / unit,
+               " entities exceeds MPI's count (use more ranks)");
+  const bool in_bytes = largest <= int_max;
+  MPI_Datatype type = MPI_BYTE;
+  if (!in_bytes) {
+    MPI_Type_contiguous(static_cast<int>(unit), MPI_BYTE, &type);
+    MPI_Type_commit(&type);
+  }
+  const auto count = [&](const std::vector<std::byte>& buffer) {
+    return static_cast<int>(in_bytes ? buffer.size() : buffer.size() / unit);
+  };
   std::vector<MPI_Request> requests;
   requests.reserve(2 * static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r)
     if (!receive_buffer_[r].empty())
-      MPI_Irecv(receive_buffer_[r].data(), static_cast<int>(receive_buffer_[r].size()), MPI_BYTE, r,
-                28, MPI_COMM_WORLD, &requests.emplace_back());
+      MPI_Irecv(receive_buffer_[r].data(), count(receive_buffer_[r]), type, r, 28, MPI_COMM_WORLD,
+                &requests.emplace_back());
   for (int r = 0; r < n; ++r)
     if (!send_buffer_[r].empty()) {
-      MPI_Isend(send_buffer_[r].data(), static_cast<int>(send_buffer_[r].size()), MPI_BYTE, r, 28,
-                MPI_COMM_WORLD, &requests.emplace_back());
+      MPI_Isend(send_buffer_[r].data(), count(send_buffer_[r]), type, r, 28, MPI_COMM_WORLD,
+                &requests.emplace_back());
       bytes_sent_ += static_cast<long long>(send_buffer_[r].size());
     }
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  if (!in_bytes)
+    MPI_Type_free(&type);
 }
 
 #else
 
 HaloExchange::HaloExchange(std::span<const int>, std::span<const Index>) {}
 
-void HaloExchange::transfer() {}
+void HaloExchange::transfer(std::size_t) {}
 
 #endif
 

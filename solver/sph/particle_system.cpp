@@ -144,7 +144,7 @@ void ParticleSystem::read_also(std::span<const Index> rows) {
 
 void ParticleSystem::gather_state() {
   if (share_)
-    share_->all.refresh_each([this](auto visit) { particles_.for_each_field(visit); });
+    share_->all.refresh_by_field([this](auto visit) { particles_.for_each_field(visit); });
 }
 
 std::span<const unsigned char> ParticleSystem::owned_rows() const {
@@ -223,7 +223,7 @@ void ParticleSystem::update(double dt) {
   mirror_.refresh_motion(p, p.rows());
   if (rebuild_due()) {
     if (share_)
-      share_->all.refresh_each(every_field); // every rank sorts and lists all particles
+      share_->all.refresh_by_field(every_field); // every rank sorts and lists all particles
     rebuild();
     if (share_)
       share();

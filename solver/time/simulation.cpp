@@ -203,8 +203,13 @@ void Simulation::share_erosion() {
 void Simulation::gather_state() {
   if (!subdomain_)
     return;
-  subdomain_->all_nodes.refresh_each([this](auto visit) { nodes_.for_each_field(visit); });
-  subdomain_->all_elements.refresh_each([this](auto visit) { elements_.for_each_field(visit); });
+  subdomain_->all_nodes.refresh_by_field([this](auto visit) { nodes_.for_each_field(visit); });
+  subdomain_->all_elements.refresh_by_field(
+      [this](auto visit) { elements_.for_each_field(visit); });
+  // Their buffers are not needed until the next checkpoint or new cut; the particles' serve each
+  // neighbour-list rebuild.
+  subdomain_->all_nodes.release();
+  subdomain_->all_elements.release();
   particles_.gather_state();
 }
 
