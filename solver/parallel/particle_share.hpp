@@ -9,8 +9,10 @@
 //   after the material update what it changed (for_each_updated_field: density, stress, kill
 //   state and the rest that the forces read), so that no rank repeats another's material update;
 //   each carries what the owners wrote since the other (together a third of a row's bytes);
-// - `all`: every row this rank does not own, before a neighbour-list rebuild (every rank then
-//   sorts and lists all particles as one process does) and before output.
+// - `all`: every row this rank does not own: their positions and smoothing lengths before a
+//   neighbour-list rebuild (Particles::for_each_listed_field: every rank then sorts and lists
+//   all particles as one process does, and the new halo is refreshed whole after it), every
+//   field before a checkpoint or a new cut.
 // Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.
 // Verified by tests/parallel/decomposition_test.cpp and tests/e2e/mpi_launch_test.cpp.
 #pragma once

@@ -222,11 +222,19 @@ void ParticleSystem::update(double dt) {
   }
   mirror_.refresh_motion(p, p.rows());
   if (rebuild_due()) {
-    if (share_)
-      share_->all.refresh_by_field(every_field); // every rank sorts and lists all particles
+    if (share_) { // every rank sorts and lists all particles as one process does
+      const long long sent = share_->all.bytes_sent();
+      share_->all.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
+      halo_bytes_ += share_->all.bytes_sent() - sent;
+    }
     rebuild();
-    if (share_)
+    if (share_) {
       share();
+      // The new halo whole: the rows it gained were current here in position only.
+      share_->halo.refresh_each(every_field);
+      mirror_.refresh_motion(p, p.rows());
+      mirror_.refresh_stress(p, p.rows());
+    }
   }
   sph_kinematics(p, search_.list(), spec_, dt, own_rows(), share_ ? &share_->visible : nullptr);
   sph_material_update(p, materials_, spec_, dt, own_rows());

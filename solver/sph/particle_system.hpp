@@ -67,7 +67,8 @@ public:
   // Changes whenever the rows this rank refreshes are chosen anew (each neighbour list, each
   // checkpoint read): a coupling's reads are then to be added again.
   long long shares() const { return shares_; }
-  // Bytes this rank has sent to refresh other ranks' halos (not counting output gathers).
+  // Bytes this rank has sent to refresh other ranks' halos and, before each neighbour-list
+  // rebuild, the positions of every row (not counting the gathers for checkpoints and new cuts).
   long long halo_bytes() const { return halo_bytes_ + (share_ ? share_->halo.bytes_sent() : 0); }
   // v += Δt_v f/m and the heating of the artificial terms over the same interval.
   void kick(double dt_v);

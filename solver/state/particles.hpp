@@ -157,6 +157,15 @@ struct Particles {
     visit("phi_p", phi_p);
   }
 
+  // What a distributed run's neighbour-list rebuild reads of every row, each rank sorting and
+  // listing all particles as one process does (parallel/particle_share.hpp): where the rows are
+  // and how far they reach. The rest of a row moves with it through the renumbering, the same on
+  // every rank; the rows a rank reads after the rebuild are then refreshed whole.
+  template <class Visit> void for_each_listed_field(Visit visit) {
+    visit("x_p", x_p);
+    visit("h_p", h_p);
+  }
+
   // What a distributed run's halo refresh carries (parallel/particle_share.hpp), in two parts
   // that together hold every field another rank reads; each carries what the owners wrote since
   // the other. Before the kinematics: what the forces, contact, kick, ties, boundary conditions,

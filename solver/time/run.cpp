@@ -403,7 +403,9 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
   if (decomposition) {
-    // What the ranks sent each other per step, per entity (output gathers not counted).
+    // What the ranks sent each other per step, per entity: the halos, the element forces, the
+    // background particles and the positions before each rebuild (the gathers for checkpoints
+    // and new cuts not counted).
     const double sent = ranks::sum_in_rank_order(std::array{double(sim.halo_bytes())})[0];
     const double entity_steps = double(particles + elements) * double(sim.steps() - first_step);
     summary["ranks"] = ranks::size();
