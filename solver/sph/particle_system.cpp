@@ -230,8 +230,9 @@ void ParticleSystem::update(double dt) {
     rebuild();
     if (share_) {
       share();
-      // The new halo whole: the rows it gained were current here in position only.
-      share_->halo.refresh_each(every_field);
+      // The new halo whole (field by field: the step's refreshes need a third of a row's
+      // buffers): the rows it gained were current here in position only.
+      share_->halo.refresh_by_field(every_field);
       mirror_.refresh_motion(p, p.rows());
       mirror_.refresh_stress(p, p.rows());
     }
