@@ -7,6 +7,20 @@
 
 namespace sphfem {
 
+namespace {
+
+// The images whose source is visible, appended to the visible rows (image slots from `rows`).
+void add_visible_images(ParticleShare& s, const MirrorParticles& mirrors, Index rows) {
+  std::vector<unsigned char> visible(rows, 0);
+  for (const Index i : s.visible)
+    visible[i] = 1;
+  for (Index k = 0; k < mirrors.size(); ++k)
+    if (visible[mirrors.source(k)])
+      s.visible.push_back(rows + k);
+}
+
+} // namespace
+
 ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
                                   const MirrorParticles& mirrors, std::span<const int> owner_of_id,
                                   std::span<const int> owner_of_background, int rank,
@@ -44,14 +58,24 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
       s.visible.push_back(i);
     }
   }
+  add_visible_images(s, mirrors, rows);
   if (!collective)
     return s;
   s.halo = HaloExchange(s.owner, s.halo_rows);
-  s.all = HaloExchange(s.owner, others);
+  // The gathers' slots include the images this rank does not keep current, each from its
+  // source's owner, which does: a gathered state is the single process's in every slot. (A run
+  // refreshes the images it reads before reading them, so a restart would not need them.)
+  std::vector<int> slot_owner(total);
+  for (Index k = 0; k < total; ++k) {
+    slot_owner[k] = s.owner[row_of(k)];
+    if (k >= rows && !s.owns[k])
+      others.push_back(k);
+  }
+  s.all = HaloExchange(slot_owner, others);
   return s;
 }
 
-bool read_also(ParticleShare& s, std::span<const Index> rows) {
+bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows) {
   std::vector<Index> added;
   for (const Index i : rows)
     if (!s.owns[i] && !std::ranges::binary_search(s.halo_rows, i))
@@ -66,6 +90,7 @@ bool read_also(ParticleShare& s, std::span<const Index> rows) {
   merged.assign(s.own.size() + s.halo_rows.size(), 0);
   std::ranges::merge(s.own, s.halo_rows, merged.begin());
   s.visible = std::move(merged);
+  add_visible_images(s, mirrors, static_cast<Index>(s.owner.size()));
   s.halo = HaloExchange(s.owner, s.halo_rows);
   return true;
 }

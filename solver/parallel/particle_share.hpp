@@ -9,10 +9,13 @@
 //   after the material update what it changed (for_each_updated_field: density, stress, kill
 //   state and the rest that the forces read), so that no rank repeats another's material update;
 //   each carries what the owners wrote since the other (together a third of a row's bytes);
-// - `all`: every row this rank does not own: their positions and smoothing lengths before a
-//   neighbour-list rebuild (Particles::for_each_listed_field: every rank then sorts and lists
-//   all particles as one process does, and the new halo is refreshed whole after it), every
-//   field before a checkpoint or a new cut.
+// - `all`: every row and mirror image this rank does not own (an image is its source's owner's):
+//   their positions and smoothing lengths before a neighbour-list rebuild
+//   (Particles::for_each_listed_field: every rank then sorts and lists all particles as one
+//   process does, and the new halo is refreshed whole after it), every field before a
+//   checkpoint or a new cut.
+// A rank refreshes each step only the mirror images of its visible rows (`visible`), the only
+// ones its rows read; the others are current on their source's owner.
 // Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.
 // Verified by tests/parallel/decomposition_test.cpp and tests/e2e/mpi_launch_test.cpp.
 #pragma once
@@ -32,7 +35,7 @@ struct ParticleShare {
   std::vector<unsigned char> owns; // per row of all (mirror images: their source's)
   std::vector<Index> own;          // owned rows, ascending
   std::vector<Index> halo_rows;    // rows read here and owned elsewhere, ascending
-  std::vector<Index> visible;      // own and halo rows, ascending
+  std::vector<Index> visible;      // own and halo rows, then the images of those, ascending
   HaloExchange halo, all;
 };
 
@@ -43,8 +46,9 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
                                   std::span<const int> owner_of_background, int rank,
                                   bool collective = true);
 
-// Adds `rows` (any order; own rows and rows already read are skipped) to the halo; false, and
-// nothing changed, when no rank has rows to add. Collective.
-bool read_also(ParticleShare& s, std::span<const Index> rows);
+// Adds `rows` (any order; own rows and rows already read are skipped) to the halo, and their
+// images to the visible rows; false, and nothing changed, when no rank has rows to add.
+// Collective.
+bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows);
 
 } // namespace sphfem

@@ -1,6 +1,7 @@
 #include "solver/sph/mirror_particles.hpp"
 
 #include "solver/core/error.hpp"
+#include "solver/core/parallel.hpp"
 
 #include <cmath>
 #include <optional>
@@ -112,9 +113,11 @@ void MirrorParticles::select(Particles& p, double reach) {
     p.mirrored_real = size();
 }
 
-void MirrorParticles::refresh_motion(Particles& p, Index first) const {
-  for (Index k = 0; k < size(); ++k) {
-    const Index g = first + k, i = source_[k];
+void MirrorParticles::refresh_motion(Particles& p, Index first,
+                                     const std::vector<Index>* only) const {
+  const IndexRange slots = IndexRange::of(only, first, first + size());
+  for (Index m = 0; m < slots.count; ++m) {
+    const Index g = slots[m], k = g - first, i = source_[k];
     const Mat3& R = image_[k].R;
     p.x_p[g] = R * p.x_p[i] + image_[k].t;
     p.x0_p[g] = R * p.x0_p[i] + image_[k].t;
@@ -133,9 +136,11 @@ void MirrorParticles::refresh_motion(Particles& p, Index first) const {
   }
 }
 
-void MirrorParticles::refresh_stress(Particles& p, Index first) const {
-  for (Index k = 0; k < size(); ++k) {
-    const Index g = first + k, i = source_[k];
+void MirrorParticles::refresh_stress(Particles& p, Index first,
+                                     const std::vector<Index>* only) const {
+  const IndexRange slots = IndexRange::of(only, first, first + size());
+  for (Index m = 0; m < slots.count; ++m) {
+    const Index g = slots[m], k = g - first, i = source_[k];
     const Mat3& R = image_[k].R;
     p.rho_p[g] = p.rho_p[i]; // the material update has just changed density and h
     p.h_p[g] = p.h_p[i];

@@ -42,10 +42,13 @@ public:
   // Chooses the images of the real and background particles lying within `reach` of their
   // group's planes (images of real particles first; sets p.mirrored_real).
   void select(Particles& p, double reach);
-  // Position, velocity, mass, density, h and identity of each image (slots from `first`).
-  void refresh_motion(Particles& p, Index first) const;
-  // Density, h, stress, gradient correction, artificial stress and last force of each image.
-  void refresh_stress(Particles& p, Index first) const;
+  // Position, velocity, mass, density, h and identity of each image (slots from `first`), or of
+  // the image slots `only` lists (a distributed run's visible rows: images of sources the rank
+  // keeps current; its rows read no other).
+  void refresh_motion(Particles& p, Index first, const std::vector<Index>* only = nullptr) const;
+  // Density, h, stress, gradient correction, artificial stress and last force of each image (or
+  // of those `only` lists).
+  void refresh_stress(Particles& p, Index first, const std::vector<Index>* only = nullptr) const;
   // Checkpoint: the images chosen at the last selection.
   void persist(StateArchive& a) {
     a.array("mirrors/source", source_);

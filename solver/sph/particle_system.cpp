@@ -133,13 +133,13 @@ void ParticleSystem::read_also(std::span<const Index> rows) {
   if (!share_)
     return;
   const long long sent = share_->halo.bytes_sent();
-  if (!sphfem::read_also(*share_, rows))
+  if (!sphfem::read_also(*share_, mirror_, rows))
     return;
   halo_bytes_ += sent;
   auto& p = particles_;
   share_->halo.refresh_each([&p](auto visit) { p.for_each_field(visit); });
-  mirror_.refresh_motion(p, p.rows());
-  mirror_.refresh_stress(p, p.rows());
+  mirror_.refresh_motion(p, p.rows(), visible_rows());
+  mirror_.refresh_stress(p, p.rows(), visible_rows());
 }
 
 void ParticleSystem::gather_state() {
@@ -218,9 +218,9 @@ void ParticleSystem::update(double dt) {
     share_->halo.refresh_each([&p](auto visit) { p.for_each_moved_field(visit); });
     // The images of rows just received: on one process their stress and kill state were
     // copied at the end of the last step, after their sources' material update.
-    mirror_.refresh_stress(p, p.rows());
+    mirror_.refresh_stress(p, p.rows(), visible_rows());
   }
-  mirror_.refresh_motion(p, p.rows());
+  mirror_.refresh_motion(p, p.rows(), visible_rows());
   if (rebuild_due()) {
     if (share_) { // every rank sorts and lists all particles as one process does
       const long long sent = share_->all.bytes_sent();
@@ -233,11 +233,11 @@ void ParticleSystem::update(double dt) {
       // The new halo whole (field by field: the step's refreshes need a third of a row's
       // buffers): the rows it gained were current here in position only.
       share_->halo.refresh_by_field(every_field);
-      mirror_.refresh_motion(p, p.rows());
-      mirror_.refresh_stress(p, p.rows());
+      mirror_.refresh_motion(p, p.rows(), visible_rows());
+      mirror_.refresh_stress(p, p.rows(), visible_rows());
     }
   }
-  sph_kinematics(p, search_.list(), spec_, dt, own_rows(), share_ ? &share_->visible : nullptr);
+  sph_kinematics(p, search_.list(), spec_, dt, own_rows(), visible_rows());
   sph_material_update(p, materials_, spec_, dt, own_rows());
   if (share_) {
     // Particles killed in tension, over all ranks: each counts its own.
@@ -247,7 +247,7 @@ void ParticleSystem::update(double dt) {
     p.excluded = static_cast<Index>(ranks::sum_in_rank_order(std::array{mine})[0]);
     share_->halo.refresh_each([&p](auto visit) { p.for_each_updated_field(visit); });
   }
-  mirror_.refresh_stress(p, p.rows());
+  mirror_.refresh_stress(p, p.rows(), visible_rows());
   forces(dt);
 }
 

@@ -98,6 +98,9 @@ private:
   bool rebuild_due() const;
   void forces(double dt);
   void place_mirrors();
+  // A distributed run's rows and images that its own rows read (null on one process: all). The
+  // other images are refreshed at each rebuild only, whose search lists every image.
+  const std::vector<Index>* visible_rows() const { return share_ ? &share_->visible : nullptr; }
 
   SphSpec spec_;
   std::vector<Material> materials_;

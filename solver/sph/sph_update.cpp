@@ -151,16 +151,12 @@ void particle_kinematics(Particles& p, const NeighbourList& list, const SphSpec&
   p.neighbours_p[i] = count;
 }
 
-// f(i) for the visible rows (all if null) and every mirror image, in parallel.
+// f(i) for the visible rows and mirror images (all if null), in parallel.
 template <class F> void for_visible(const Particles& p, const std::vector<Index>* visible, F f) {
-  const IndexRange rows = IndexRange::of(visible, p.rows());
+  const IndexRange rows = IndexRange::of(visible, p.total());
 #pragma omp parallel for schedule(static) if (rows.count > parallel_min_items)
   for (Index k = 0; k < rows.count; ++k)
     f(rows[k]);
-  const Index images = p.total() - p.rows();
-#pragma omp parallel for schedule(static) if (images > parallel_min_items)
-  for (Index k = 0; k < images; ++k)
-    f(p.rows() + k);
 }
 
 } // namespace

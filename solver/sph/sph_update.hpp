@@ -29,8 +29,8 @@ namespace sphfem {
 
 // dt: the step just taken (0 at the start), to recover the mid-step positions.
 // `only` (each function): the rows to compute, ascending — a distributed run's share
-// (parallel/particle_share.hpp); null: all. `visible`: the rows whose per-particle terms those
-// read (the share and its halo, ascending; mirror images always), null: all.
+// (parallel/particle_share.hpp); null: all. `visible`: the rows and mirror images whose
+// per-particle terms those read (the share, its halo and their images, ascending), null: all.
 void sph_kinematics(Particles& p, const NeighbourList& list, const SphSpec& spec, double dt,
                     const std::vector<Index>* only = nullptr,
                     const std::vector<Index>* visible = nullptr);

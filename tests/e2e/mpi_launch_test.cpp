@@ -279,7 +279,7 @@ TEST(MpiLaunch, CrushedQuarterOfParticlesOnTwoAndThreeRanksIsTheOneProcessRun) {
   EXPECT_GT(rebalances[1], 0) << "3 ranks";
 }
 
-TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThree) {
+TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThreeAndOnOne) {
   // The same checkpoint time of the crushed quarter reached on one process and on two ranks;
   // each continued (on one process, on three ranks) to the end writes the same history. The
   // checkpoint holds the particles in the order of its last neighbour list, which the three
@@ -290,10 +290,15 @@ TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThree) {
   // The ranks' run writes frames: those after the restart are three pieces each, listed after
   // the two-piece frames before it.
   const std::string half = " -q --set time.end=7e-6";
-  const fs::path one = scratch.dir / "one", two = scratch.dir / "two";
+  const fs::path one = scratch.dir / "one", two = scratch.dir / "two",
+                 two_on_one = scratch.dir / "two_on_one";
   ASSERT_EQ(sphfem_on(0, "run " + case_file + " -o " + one.string() + half, scratch.dir).code, 0);
   ASSERT_EQ(sphfem_on(2, "run " + case_file + " -o " + two.string() + half, scratch.dir).code, 0);
-  for (const auto& [out, ranks] : {std::pair{one, 0}, std::pair{two, 3}}) {
+  // The ranks' checkpoint continued on one process too (each rank refreshes only the mirror
+  // images of the rows it sees; the checkpoint holds them all).
+  fs::copy(two, two_on_one, fs::copy_options::recursive);
+  for (const auto& [out, ranks] :
+       {std::pair{one, 0}, std::pair{two, 3}, std::pair{two_on_one, 0}}) {
     const auto r = sphfem_on(ranks,
                              "solve " + case_file + " -o " + out.string() + " -q --restart " +
                                  (out / "checkpoint.h5").string(),
@@ -301,6 +306,7 @@ TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThree) {
     ASSERT_EQ(r.code, 0) << r.err;
   }
   EXPECT_TRUE(slurp(one / "history.csv") == slurp(two / "history.csv"));
+  EXPECT_TRUE(slurp(one / "history.csv") == slurp(two_on_one / "history.csv"));
   EXPECT_NE(slurp(two / "run.log").find("restart from"), std::string::npos);
   const std::string listed = slurp(two / "results.pvd");
   for (int frame = 0; frame < 5; ++frame) {

@@ -434,11 +434,54 @@ TEST(ParticleShare, ARankReadsItsParticlesNeighbours) {
     if (m.x_p[i].x() > 6 * mm) // the last layer: beyond the halo
       further.push_back(i);
   further.push_back(further[1]); // twice: once
-  EXPECT_TRUE(read_also(lower, further));
+  EXPECT_TRUE(read_also(lower, MirrorParticles(), further));
   EXPECT_EQ(lower.halo_rows.size(), 34u);
   EXPECT_TRUE(std::ranges::binary_search(lower.halo_rows, further[2]));
   EXPECT_TRUE(std::ranges::is_sorted(lower.visible));
   EXPECT_EQ(lower.visible.size(), 98u);
+}
+
+TEST(Decomposition, ARanksVisibleRowsHoldTheImagesOfItsVisibleRowsAndNoOthers) {
+  // The lattice above with a symmetry plane at z = −0.5 mm: the particles within 2.4 mm of it
+  // (z = 0 and 1 mm) get images. Split at x = 3.5 mm, the lower rank keeps x = 0–3 mm and reads
+  // x = 4, 5 mm: it refreshes the images of those rows only (48 of 64), and every image its own
+  // rows list is among them.
+  Model m;
+  add_lattice(m, 8, 4, 4);
+  Particles p;
+  p.real = static_cast<Index>(m.x_p.size());
+  p.for_each_field([&p](const char*, auto& field) { field.resize(p.real); });
+  p.x_p = m.x_p;
+  p.h_p = m.h_p;
+  std::iota(p.id_p.begin(), p.id_p.end(), Index{0});
+  const MirrorParticles::Plane plane{0, Vec3(0, 0, -0.5 * mm), Vec3(0, 0, -1)};
+  MirrorParticles mirrors(std::vector{plane});
+  mirrors.select(p, 2.4 * mm);
+  ASSERT_EQ(mirrors.size(), 64);
+  p.for_each_field([&](const char*, auto& field) { field.resize(p.real + mirrors.size()); });
+  mirrors.refresh_motion(p, p.rows());
+  NeighbourSearch search;
+  search.build(p.x_p, p.h_p, 0.0);
+  std::vector<int> owner(p.real);
+  for (Index i = 0; i < p.real; ++i)
+    owner[i] = m.x_p[i].x() < 3.5 * mm ? 0 : 1;
+  for (const int rank : {0, 1}) {
+    const ParticleShare s = make_particle_share(p, search.list(), mirrors, owner, {}, rank, false);
+    EXPECT_TRUE(std::ranges::is_sorted(s.visible));
+    const auto visible = [&](Index j) { return std::ranges::binary_search(s.visible, j); };
+    Index images = 0;
+    for (Index k = 0; k < mirrors.size(); ++k) {
+      const Index source = mirrors.source(k);
+      EXPECT_EQ(visible(p.rows() + k), visible(source)) << "image " << k;
+      const double x = m.x_p[source].x();
+      EXPECT_EQ(visible(p.rows() + k), rank == 0 ? x < 5.5 * mm : x > 1.5 * mm) << "image " << k;
+      images += visible(p.rows() + k);
+    }
+    EXPECT_EQ(images, 48);
+    for (Index i : s.own)
+      for (Index j : search.list().of(i))
+        EXPECT_TRUE(visible(j)) << "row " << i << " lists " << j;
+  }
 }
 
 TEST(Decomposition, BadRequestsAreRefused) {
