@@ -22,11 +22,12 @@ void BackgroundParticles::initialise(const Case& c, const Model& model,
 }
 
 void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
-                               const NodeGather& around, Particles& p) const {
-  const Index count = size();
-#pragma omp parallel for schedule(static) if (count > parallel_min_items)
-  for (Index k = 0; k < count; ++k) {
-    const Index b = p.real + k, i = nodes_[k];
+                               const NodeGather& around, Particles& p,
+                               const std::vector<Index>* only) const {
+  const IndexRange filled = IndexRange::of(only, size());
+#pragma omp parallel for schedule(static) if (filled.count > parallel_min_items)
+  for (Index m = 0; m < filled.count; ++m) {
+    const Index k = filled[m], b = p.real + k, i = nodes_[k];
     const Mat3 sigma = nodal_stress(elements, around, i);
     double mass = 0, volume = 0;
     for (Index entry : around.around(i)) {
@@ -46,12 +47,15 @@ void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
   }
 }
 
-void BackgroundParticles::return_forces(const Particles& p, std::vector<Vec3>& f_nodes) const {
+void BackgroundParticles::return_forces(const Particles& p, std::vector<Vec3>& f_nodes,
+                                        const std::vector<Index>* only) const {
   // Each node has at most one background particle: no two slots write the same node.
-  const Index count = size();
-#pragma omp parallel for schedule(static) if (count > parallel_min_items)
-  for (Index k = 0; k < count; ++k)
+  const IndexRange returned = IndexRange::of(only, size());
+#pragma omp parallel for schedule(static) if (returned.count > parallel_min_items)
+  for (Index m = 0; m < returned.count; ++m) {
+    const Index k = returned[m];
     f_nodes[nodes_[k]] += p.f_p[p.real + k];
+  }
 }
 
 ExactSum BackgroundParticles::energy(const Particles& p, IndexRange rows) const {

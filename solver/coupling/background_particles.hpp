@@ -41,11 +41,15 @@ public:
   // Copies xⁿ⁺¹, v^{n+½} (also as drift velocity), mass, density Σm_e/ΣV_e and the
   // volume-weighted stress of the adjacent elements, and the node's element force (for the
   // heating predictor), into the slots. Call after the element phase, before the particles'.
-  void fill(const Nodes& nodes, const HexElements& elements, const NodeGather& around,
-            Particles& p) const;
+  // `only`: the background particles to fill (a distributed run's: those of the nodes the rank
+  // owns, whose elements it holds current), ascending; null: all.
+  void fill(const Nodes& nodes, const HexElements& elements, const NodeGather& around, Particles& p,
+            const std::vector<Index>* only = nullptr) const;
 
-  // f_nodes[node] += the pair and contact forces on its background particle.
-  void return_forces(const Particles& p, std::vector<Vec3>& f_nodes) const;
+  // f_nodes[node] += the pair and contact forces on its background particle (of those `only`
+  // lists).
+  void return_forces(const Particles& p, std::vector<Vec3>& f_nodes,
+                     const std::vector<Index>* only = nullptr) const;
 
   // The fields fill() writes and those return_forces() reads, as spans over the background
   // rows, for a distributed run's exchanges: visit(name, span) per field.

@@ -28,6 +28,10 @@ Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool 
   for (Index i = 0; i < n; ++i)
     if (read[i] && !s.owns_n[i])
       s.halo_nodes.push_back(i);
+  const Index nb = static_cast<Index>(m.background_nodes.size());
+  for (Index k = 0; k < nb; ++k)
+    if (s.owns_n[m.background_nodes[k]])
+      s.background.push_back(k);
   if (collective) {
     s.halo = HaloExchange(d.part_n, s.halo_nodes);
     s.element_forces = HaloExchange(d.part_e, s.foreign_elements);
@@ -36,18 +40,15 @@ Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool 
     std::iota(every_element.begin(), every_element.end(), Index{0});
     s.all_nodes = HaloExchange(d.part_n, every_node);
     s.all_elements = HaloExchange(d.part_e, every_element);
-    const Index nb = static_cast<Index>(m.background_nodes.size());
     std::vector<int> node_part(nb);
-    std::vector<Index> stepped_here, filled_here;
+    std::vector<Index> stepped_here;
     for (Index k = 0; k < nb; ++k) {
       node_part[k] = d.part_n[m.background_nodes[k]];
       if (d.part_b[k] == rank)
         stepped_here.push_back(k);
-      if (node_part[k] == rank)
-        filled_here.push_back(k);
     }
     s.background_filled = HaloExchange(node_part, stepped_here);
-    s.background_returned = HaloExchange(d.part_b, filled_here);
+    s.background_returned = HaloExchange(d.part_b, s.background);
   }
   return s;
 }

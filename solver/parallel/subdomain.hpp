@@ -35,6 +35,7 @@ struct Subdomain {
   std::vector<Index> elements;         // computed here (the decomposition's), ascending
   std::vector<Index> foreign_elements; // other ranks' elements holding an owned node, ascending
   std::vector<Index> halo_nodes;       // nodes of `elements` owned elsewhere, ascending
+  std::vector<Index> background;       // background particles of owned nodes: filled here
   HaloExchange halo, element_forces, all_nodes, all_elements, background_filled,
       background_returned;
 

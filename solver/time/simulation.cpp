@@ -298,7 +298,8 @@ void Simulation::step(double dt) {
     dt_elements_ = update_hex_elements({x, v, dt}, materials_, fem_, elements_);
     gather_.gather_forces(elements_, f);
   }
-  background_.fill(nodes_, elements_, gather_, particles_.particles());
+  const std::vector<Index>* filled_here = subdomain_ ? &subdomain_->background : nullptr;
+  background_.fill(nodes_, elements_, gather_, particles_.particles(), filled_here);
   if (subdomain_)
     subdomain_->background_filled.refresh_each(
         [this](auto visit) { BackgroundParticles::visit_filled(particles_.particles(), visit); });
@@ -315,7 +316,7 @@ void Simulation::step(double dt) {
   if (subdomain_)
     subdomain_->background_returned.refresh_each(
         [this](auto visit) { BackgroundParticles::visit_returned(particles_.particles(), visit); });
-  background_.return_forces(particles_.particles(), f);
+  background_.return_forces(particles_.particles(), f, filled_here);
   time_ += dt;
   dt_previous_ = dt;
   ++steps_;
