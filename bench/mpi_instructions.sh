@@ -39,6 +39,7 @@ phases = {  # phase: substrings of the function names (exclusive counts)
     "SPH pair loops": ["sph_forces", "particle_kinematics", "background_kinematics"],
     "neighbour search": ["NeighbourSearch::"],
     "mirror images": ["MirrorParticles::"],
+    "background fill": ["BackgroundParticles::", "nodal_stress"],
     "halo copies": ["HaloExchange::"],
     "waiting in MPI": ["mca_btl_vader", "opal_progress", "ompi_sync_wait", "libmpi", "libopen-pal"],
 }
