@@ -8,8 +8,8 @@
 // Fields are std::vectors of fixed-size values (numbers, Vec3, Mat3, arrays of them, plain
 // structs) copied as bytes. Without MPI, or on one rank, there is nothing to exchange.
 //
-// An exchange of whole states (a gather before a checkpoint or a new cut, every particle row
-// before a neighbour-list rebuild) goes field by field (refresh_by_field): its one-message
+// An exchange of whole states (a gather before a checkpoint or a new cut, a new halo after a
+// neighbour-list rebuild) goes field by field (refresh_by_field): its one-message
 // buffers would hold, on every rank, a copy of the state it sends and of the state it receives —
 // 1.2 KB per entity on each of 4 ranks on the Børvik shot, as much as the arrays themselves
 // (docs/scaling.md).
