@@ -421,11 +421,12 @@ void NeighbourSearch::fill_rows(bool sort_each_row) {
 void NeighbourSearch::sort_by_transposing() {
   const Index n = list_.particle_count();
   const int team = std::min(thread_limit(), 8);
-  transpose_.count.resize(static_cast<std::size_t>(team) * n);
-  transpose_.neighbours.resize(list_.neighbours.size());
+  // Per thread and particle: entries, then write cursors.
+  std::vector<Index> counts(static_cast<std::size_t>(team) * n);
+  std::vector<Index> sorted(list_.neighbours.size());
   const Index* offsets = list_.offsets.data();
   const Index* in = list_.neighbours.data();
-  Index* out = transpose_.neighbours.data();
+  Index* out = sorted.data();
 
 #pragma omp parallel num_threads(team) if (n > parallel_min_items)
   {
@@ -438,7 +439,7 @@ void NeighbourSearch::sort_by_transposing() {
                  : static_cast<Index>(std::lower_bound(offsets, offsets + n, target) - offsets);
     };
     const Index i0 = first_row(t), i1 = first_row(t + 1);
-    Index* count = transpose_.count.data() + static_cast<std::size_t>(t) * n;
+    Index* count = counts.data() + static_cast<std::size_t>(t) * n;
     std::fill(count, count + n, 0);
     for (Index k = offsets[i0]; k < offsets[i1]; ++k)
       ++count[in[k]];
@@ -448,7 +449,7 @@ void NeighbourSearch::sort_by_transposing() {
     for (Index j = j0; j < j1; ++j) {
       Index at = offsets[j];
       for (int s = 0; s < threads; ++s) {
-        Index& c = transpose_.count[static_cast<std::size_t>(s) * n + j];
+        Index& c = counts[static_cast<std::size_t>(s) * n + j];
         const Index entries = c;
         c = at;
         at += entries;
@@ -459,7 +460,7 @@ void NeighbourSearch::sort_by_transposing() {
       for (Index k = offsets[i]; k < offsets[i + 1]; ++k)
         out[count[in[k]]++] = i;
   }
-  list_.neighbours.swap(transpose_.neighbours);
+  list_.neighbours.swap(sorted);
 }
 
 bool NeighbourSearch::needs_update(std::span<const Vec3> x, std::span<const double> h) const {

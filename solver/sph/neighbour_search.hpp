@@ -61,8 +61,10 @@ struct CellGrid {
 // (counting sort), finds each pair once in a half stencil of the sorted points, completes each
 // row from the half rows that list it, and sorts rows by original index (row by row when the
 // numbering is close to cell order, else by one transposition of the whole list). Buffers are
-// reused, so rebuilding for a stable particle count does not allocate. Deterministic: the
-// lists do not depend on the thread count.
+// reused, so rebuilding for a stable particle count does not allocate; the transposition's
+// (a second copy of the list and a count per thread and particle) are freed after it, as it
+// runs only when the numbering is far from cell order: the first build and a restart.
+// Deterministic: the lists do not depend on the thread count.
 //
 // Room for passive candidates (FE nodes as background particles, searched only as neighbours):
 // they would be binned by a second Bins over the same CellGrid and give a second NeighbourList
@@ -133,11 +135,6 @@ private:
     std::vector<Index> count;         // length of row k
     std::vector<Index> lower;         // rows k' < k listing k: count, then write cursor
   };
-  struct Transpose {
-    std::vector<Index> count;      // per thread and particle: entries, then write cursors
-    std::vector<Index> neighbours; // the sorted lists, then swapped into list_
-  };
-
   // Cells searched on each side of a particle's own cell. Smaller cells test fewer candidates
   // ((2r + 1)³/r³ cutoff³: 27, 15.6, 12.7 for r = 1, 2, 3) over more, shorter spans; measured
   // on the benchmark's lattice, r = 2 builds fastest (r = 1 and r = 3: ~1.2× slower).
@@ -152,7 +149,6 @@ private:
   CellGrid grid_;
   Bins bins_;
   HalfLists half_;
-  Transpose transpose_;
   NeighbourList list_;
   std::vector<Vec3> x_build_;
   std::vector<double> h_build_;
