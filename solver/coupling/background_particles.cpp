@@ -34,7 +34,7 @@ void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
       if (elements.eroded_e[entry / 8])
         continue;
       mass += elements.mass_e[entry / 8];
-      volume += elements.V_e[entry / 8];
+      volume += elements.V_e[elements.slot(entry / 8)];
     }
     p.x_p[b] = nodes.x_n[i];
     p.v_p[b] = p.u_p[b] = nodes.v_n[i];

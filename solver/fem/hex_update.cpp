@@ -63,11 +63,12 @@ double largest_eigenvalue(const HourglassGram& gram) {
 
 // Removes a failed element of an eroding material: no stress and no force from now on.
 void erode(HexElements& e, Index k) {
+  const Index s = e.slot(k);
   e.eroded_e[k] = 1;
-  e.S_e[k].setZero();
-  e.p_e[k] = e.q_e[k] = 0;
-  e.f_e[k].fill(Vec3::Zero());
-  e.hg_e[k].fill(Vec3::Zero());
+  e.S_e[s].setZero();
+  e.p_e[s] = e.q_e[s] = 0;
+  e.f_e[s].fill(Vec3::Zero());
+  e.hg_e[s].fill(Vec3::Zero());
 }
 
 // The element loop. `General`: some material has an EOS, a strength or erosion; without, the
@@ -86,7 +87,7 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
     reduction(min                                                                                  \
               : dt_min, first_inverted) if (range.count > parallel_min_items / 16)
   for (Index j = 0; j < range.count; ++j) {
-    const Index k = range[j];
+    const Index k = range[j], s = e.slot(k);
     if (General && e.eroded_e[k])
       continue;
     const Hex& nodes = e.nodes_e[k];
@@ -99,7 +100,7 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
       continue;
     }
     const double rho = e.mass_e[k] / g.volume;
-    const double energy = General && mat.eos ? e.e_int_e[k] / e.V0_e[k] : 0.0; // E, J/m³
+    const double energy = General && mat.eos ? e.e_int_e[s] / e.V0_e[k] : 0.0; // E, J/m³
     const double c =
         General ? mat.sound_speed(rho, energy) : std::sqrt(mat.elastic.p_wave_modulus() / rho);
     const double length = hex8_characteristic_length(x1, g.volume);
@@ -114,29 +115,29 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
       const Mat3 D = 0.5 * (L + L.transpose());
       const Mat3 W = 0.5 * (L - L.transpose());
       trace_D = D.trace();
-      const Mat3 sigma_old = e.sigma(k);
+      const Mat3 sigma_old = e.sigma(s);
       if constexpr (General) {
         // Pressure: the EOS at the new density, else the elastic rate form −K tr D.
         double pressure =
-            mat.eos ? mat.pressure(rho, energy) : e.p_e[k] - mat.elastic.bulk * trace_D * dt;
+            mat.eos ? mat.pressure(rho, energy) : e.p_e[s] - mat.elastic.bulk * trace_D * dt;
         if (mat.inelastic())
-          update_point(mat, D, W, dt, rho, pressure, e.S_e[k], e.point_e[k],
+          update_point(mat, D, W, dt, rho, pressure, e.S_e[s], e.point_e[s],
                        mat.regularised() ? std::cbrt(e.V0_e[k]) : 0.0);
         else
-          elastic_deviator_update(mat.elastic, D, W, dt, e.S_e[k]);
-        e.p_e[k] = pressure;
+          elastic_deviator_update(mat.elastic, D, W, dt, e.S_e[s]);
+        e.p_e[s] = pressure;
       } else {
-        elastic_update(mat.elastic, D, W, dt, e.S_e[k], e.p_e[k]);
+        elastic_update(mat.elastic, D, W, dt, e.S_e[s], e.p_e[s]);
       }
-      e.q_e[k] = bulk_viscosity(rho, length, c, trace_D, fem);
-      const Mat3 sigma_mid = 0.5 * (sigma_old + e.sigma(k));
-      e.de_int_e[k] = dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
-      e.e_int_e[k] += e.de_int_e[k];
+      e.q_e[s] = bulk_viscosity(rho, length, c, trace_D, fem);
+      const Mat3 sigma_mid = 0.5 * (sigma_old + e.sigma(s));
+      e.de_int_e[s] = dt * gm.volume * sigma_mid.cwiseProduct(D).sum();
+      e.e_int_e[s] += e.de_int_e[s];
     }
-    e.V_e[k] = g.volume;
+    e.V_e[s] = g.volume;
 
     // Internal force on node I: −σ b_I; plus hourglass resistance on the γ modes.
-    const Mat3 sigma = e.sigma(k);
+    const Mat3 sigma = e.sigma(s);
     const auto gamma = hex8_hourglass_shape(x1, g);
     std::array<Vec3, 4> mode;
     for (int a = 0; a < 4; ++a) {
@@ -146,12 +147,12 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
     }
     // The mode forces of the last update acted over this step: their work, with the mode
     // velocity averaged over the step, is the hourglass energy (exact leap-frog accounting).
-    auto& resist = e.hg_e[k];
+    auto& resist = e.hg_e[s];
     double hourglass_work = 0;
     for (int a = 0; a < 4; ++a)
-      hourglass_work += resist[a].dot(0.5 * (e.hg_mode_e[k][a] + mode[a]));
-    e.e_hg_e[k] += dt * hourglass_work;
-    if (General && mat.erosion && e.point_e[k].failed) {
+      hourglass_work += resist[a].dot(0.5 * (e.hg_mode_e[s][a] + mode[a]));
+    e.e_hg_e[s] += dt * hourglass_work;
+    if (General && mat.erosion && e.point_e[s].failed) {
       erode(e, k);
       continue;
     }
@@ -184,12 +185,12 @@ double update_elements(const HexStepInput& in, const std::vector<Material>& mate
       if (hourglass_step(gershgorin_bound(gram)) < step)
         step = std::min(step, hourglass_step(largest_eigenvalue(gram)));
     }
-    e.hg_mode_e[k] = mode;
+    e.hg_mode_e[s] = mode;
     for (int I = 0; I < 8; ++I) {
       Vec3 f_hg = Vec3::Zero();
       for (int a = 0; a < 4; ++a)
         f_hg -= gamma[a][I] * resist[a];
-      e.f_e[k][I] = -(sigma * g.b[I]) + f_hg;
+      e.f_e[s][I] = -(sigma * g.b[I]) + f_hg;
     }
     dt_min = std::min(dt_min, step);
   }

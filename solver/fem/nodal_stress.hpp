@@ -14,11 +14,11 @@ inline Mat3 nodal_stress(const HexElements& e, const NodeGather& around, Index n
   Mat3 sum = Mat3::Zero();
   double volume = 0;
   for (Index entry : around.around(node)) {
-    const Index k = entry / 8;
+    const Index k = entry / 8, s = e.slot(k);
     if (e.eroded_e[k])
       continue;
-    sum += e.V_e[k] * (e.S_e[k] - e.p_e[k] * Mat3::Identity());
-    volume += e.V_e[k];
+    sum += e.V_e[s] * (e.S_e[s] - e.p_e[s] * Mat3::Identity());
+    volume += e.V_e[s];
   }
   return volume > 0 ? Mat3(sum / volume) : Mat3(Mat3::Zero());
 }

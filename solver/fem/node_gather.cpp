@@ -26,7 +26,7 @@ void NodeGather::gather_forces(const HexElements& e, std::vector<Vec3>& out,
     const Index i = nodes[j];
     Vec3 sum = Vec3::Zero();
     for (Index k = offsets_[i]; k < offsets_[i + 1]; ++k)
-      sum += e.f_e[entries_[k] / 8][entries_[k] % 8];
+      sum += e.f_e[e.slot(entries_[k] / 8)][entries_[k] % 8];
     out[i] = sum;
   }
 }

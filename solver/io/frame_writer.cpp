@@ -354,15 +354,15 @@ void FrameWriter::write_parts(const Nodes& nodes, const HexElements& e, const Pa
     }
     g.points->Modified();
     for (std::size_t a = 0; a < g.elements.size(); ++a) {
-      const Index j = g.elements[a];
+      const Index j = g.elements[a], slot = e.slot(j);
       const auto k = static_cast<vtkIdType>(a);
-      const Mat3 s = e.S_e[j] - e.p_e[j] * Mat3::Identity();
+      const Mat3 s = e.S_e[slot] - e.p_e[slot] * Mat3::Identity();
       set_stress(g.stress, k, s);
       g.von_mises->SetValue(k, von_mises(s));
-      g.pressure->SetValue(k, e.p_e[j]);
-      g.density->SetValue(k, e.mass_e[j] / e.V_e[j]);
+      g.pressure->SetValue(k, e.p_e[slot]);
+      g.density->SetValue(k, e.mass_e[j] / e.V_e[slot]);
       if (g.history) {
-        g.history->set(k, e.point_e[j], e.eroded_e[j]);
+        g.history->set(k, e.point_e[slot], e.eroded_e[j]);
         g.ghost->SetValue(k, e.eroded_e[j] ? vtkDataSetAttributes::HIDDENCELL : 0);
       }
     }

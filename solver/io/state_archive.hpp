@@ -48,4 +48,15 @@ private:
   void expect_count(const std::string& name, std::size_t element, std::size_t count);
 };
 
+// Writes nothing: a rank of a distributed run that takes part in the gathers of a checkpoint
+// rank 0 writes (Simulation::persist).
+class DiscardingArchive final : public StateArchive {
+public:
+  bool reading() const override { return false; }
+
+protected:
+  std::size_t stored_count(const std::string&, std::size_t) override { return 0; }
+  void bytes(const std::string&, void*, std::size_t, std::size_t) override {}
+};
+
 } // namespace sphfem

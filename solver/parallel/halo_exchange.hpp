@@ -1,12 +1,13 @@
-// The exchange of a distributed run (issue 28, point 3): every rank holds the model's arrays in
-// the model's numbering, steps the entities it owns and reads some it does not own (its halo:
+// The exchange of a distributed run (issue 28, point 3): every rank addresses entities by their
+// number in the model, steps the entities it owns and reads some it does not own (its halo:
 // the nodes of the elements it computes). After a phase, each owner sends the values of those
 // entities to the ranks that read them, which write them into the same slots. The lists are
 // agreed once (each rank says what it reads, the owners learn it), so a refresh sends only the
 // halo's values: per pair of ranks one message holding every field asked for.
 //
 // Fields are std::vectors of fixed-size values (numbers, Vec3, Mat3, arrays of them, plain
-// structs) copied as bytes. Without MPI, or on one rank, there is nothing to exchange.
+// structs) copied as bytes, or views of them indexed by entity (HexElements' BySlot: the
+// elements' state is held in slots). Without MPI, or on one rank, there is nothing to exchange.
 //
 // An exchange of whole states (a gather before a checkpoint or a new cut, a new halo after a
 // neighbour-list rebuild) goes field by field (refresh_by_field): its one-message

@@ -9,16 +9,18 @@
 //   its elements in the same order as on one process — each element computed once (computing
 //   them on every rank holding one of their nodes cost the Børvik shot's rank 0 5–8% more
 //   elements than its share);
-// - `all_nodes`, `all_elements`: every slot this rank does not own, before output, so that
-//   energies, probes, frames and checkpoints are computed from the whole state as on one process;
+// - `all_nodes`: every node this rank does not own, before a checkpoint or a new cut;
+//   `all_elements`: every element it does not compute — their erosion flags (for the contact
+//   surfaces, a checkpoint and a new cut) and, at a new cut, each state field in turn;
 // - background particles (METHOD.md §4.1) are filled from their node by the node's rank, which
 //   holds the node's elements, and stepped in the particle phase by the particles' cut's rank
 //   (Decomposition::part_b): `background_filled` sends the filled rows to that rank,
 //   `background_returned` their pair and contact forces back to the node's rank before they join
 //   the node's force. Indexed by background particle.
-// Every rank keeps the model's arrays in the model's numbering (the state is replicated; each
-// rank writes only its share of it). Verified by tests/parallel/decomposition_test.cpp and the
-// mpirun runs of tests/e2e/mpi_launch_test.cpp.
+// Every rank keeps the nodes' arrays and the elements' mesh fields in the model's numbering
+// (replicated; each rank writes only its share of them); of the elements' state it holds only
+// that of `elements` and `foreign_elements`, in that order (HexElements' slots). Verified by
+// tests/parallel/decomposition_test.cpp and the mpirun runs of tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
 #include "solver/parallel/decomposition.hpp"

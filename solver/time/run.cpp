@@ -212,10 +212,26 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   };
   const auto checkpoint = [&] {
     sim.gather_state();
-    if (!writer)
+    if (!decomposition) {
+      write_checkpoint(out / "checkpoint.h5",
+                       {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
       return;
-    write_checkpoint(out / "checkpoint.h5",
-                     {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
+    }
+    // Every rank takes part in the element fields' gathers (Simulation::persist); a failure on
+    // the writer would leave the others waiting in them: it ends the job.
+    try {
+      if (writer) {
+        write_checkpoint(out / "checkpoint.h5",
+                         {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
+      } else {
+        DiscardingArchive gathers_only;
+        sim.persist(gathers_only);
+      }
+    } catch (const Error& e) {
+      std::cerr << detail::concat("sphfem: error on MPI rank ", ranks::rank(), ": ", e.what(),
+                                  "\n");
+      ranks::abort(1);
+    }
   };
   if (restart) {
     read_checkpoint(options.restart, persist);

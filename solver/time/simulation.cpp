@@ -10,7 +10,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <span>
+#include <type_traits>
+#include <utility>
 
 namespace sphfem {
 
@@ -43,18 +46,7 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   e.material_e.resize(ne);
   e.mass_e.resize(ne);
   e.V0_e.resize(ne);
-  e.V_e.resize(ne);
-  e.S_e.assign(ne, Mat3::Zero());
-  e.p_e.assign(ne, 0.0);
-  e.q_e.assign(ne, 0.0);
-  e.e_int_e.assign(ne, 0.0);
-  e.de_int_e.assign(ne, 0.0);
-  e.e_hg_e.assign(ne, 0.0);
-  e.f_e.resize(ne);
-  e.point_e.resize(ne);
   e.eroded_e.assign(ne, 0);
-  e.hg_e.assign(ne, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-  e.hg_mode_e.assign(ne, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   for (Index k = 0; k < ne; ++k) {
     HexPoints x;
     for (int I = 0; I < 8; ++I)
@@ -62,33 +54,52 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
     const double V = hex8_gradient(x).volume;
     SPHFEM_CHECK(V > 0, "model.h5: element ", k, " has non-positive volume");
     e.material_e[k] = body_material[model.body_e[k]];
-    e.V0_e[k] = e.V_e[k] = V;
+    e.V0_e[k] = V;
     const Material& material = materials_[e.material_e[k]];
     e.mass_e[k] = material.elastic.density * V;
-    e.point_e[k] = MaterialPoint::initial(material);
     e.inelastic = e.inelastic || material.inelastic();
     for (Index node : model.hex_e[k])
       nodes_.m_n[node] += e.mass_e[k] / 8.0;
   }
   for (Index i = 0; i < n; ++i)
     SPHFEM_CHECK(nodes_.m_n[i] > 0, "model.h5: node ", i, " belongs to no element");
+  // The background particles' first fill reads the volume and stress of every element around
+  // their nodes: these three state fields are whole until then.
+  e.V_e = e.V0_e;
+  e.S_e.assign(ne, Mat3::Zero());
+  e.p_e.assign(ne, 0.0);
 
   gather_ = NodeGather(e.nodes_e, n);
   constraints_ = Constraints(c, model);
   loads_ = PressureLoads(c, model);
   constraints_.apply_initial(nodes_.v_n);
+  ties_ = InterfaceTies(c, model);
+  if (decomposition != nullptr && decomposition->parts > 1) {
+    // A distributed run: this rank's share of the nodes and elements, so that it holds the
+    // state of only the elements it computes or reads from the start.
+    decomposition_ = *decomposition;
+    for (Index k = 0; k < ties_.size(); ++k)
+      decomposition_.tie(ties_.particle_id(k), ties_.node(k));
+    subdomain_ = std::make_unique<Subdomain>(make_subdomain(decomposition_, model, ranks::rank()));
+  }
   background_ = BackgroundParticles(model.background_nodes);
   particles_ = ParticleSystem(c, model, materials_, background_.size(), [&](Particles& p) {
     background_.initialise(c, model, materials_, p);
     background_.fill(nodes_, elements_, gather_, p);
   });
   particle_boundaries_ = ParticleBoundaries(c, model);
-  ties_ = InterfaceTies(c, model);
   contact_ = Contact(c, model, particles_.particles(), background_, elements_);
   contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
                  0.0);
+  reference_state();
+  if (subdomain_)
+    particles_.distribute(decomposition_.part_p, decomposition_.part_b);
 
-  dt_elements_ = update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0}, materials_, fem_, elements_);
+  const std::vector<Index>* computed = subdomain_ ? &subdomain_->elements : nullptr;
+  dt_elements_ =
+      update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0, computed}, materials_, fem_, elements_);
+  if (subdomain_)
+    dt_elements_ = ranks::min(dt_elements_);
   background_.return_forces(particles_.particles(), nodes_.f_int_n);
   initial_energy_ = energies().total(); // kinetic, and contact energy if bodies start close
   initial_momentum_ = momentum();
@@ -96,8 +107,26 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   momentum_scale_ =
       deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
-  if (decomposition != nullptr && decomposition->parts > 1)
-    take_share(*decomposition, model);
+}
+
+void Simulation::reference_state() {
+  auto& e = elements_;
+  if (subdomain_) // V_e, S_e and p_e are whole; the other fields are made for the share
+    cut_element_state([](auto& field) { return std::exchange(field, {}); });
+  const auto count = subdomain_ ? e.V_e.size() : static_cast<std::size_t>(e.size());
+  e.q_e.assign(count, 0.0);
+  e.e_int_e.assign(count, 0.0);
+  e.de_int_e.assign(count, 0.0);
+  e.e_hg_e.assign(count, 0.0);
+  e.hg_e.assign(count, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  e.hg_mode_e.assign(count, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  std::array<Vec3, 8> no_force;
+  no_force.fill(Vec3::Zero());
+  e.f_e.assign(count, no_force);
+  e.point_e.resize(count);
+  for (Index k = 0; k < e.size(); ++k)
+    if (const Index s = e.slot(k); s >= 0)
+      e.point_e[s] = MaterialPoint::initial(materials_[e.material_e[k]]);
 }
 
 void Simulation::take_share(Decomposition d, const Model& model) {
@@ -108,9 +137,40 @@ void Simulation::take_share(Decomposition d, const Model& model) {
     d.tie(ties_.particle_id(k), ties_.node(k));
   if (subdomain_)
     halo_bytes_ += subdomain_->bytes_sent();
+  const std::unique_ptr<Subdomain> before = std::move(subdomain_);
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
+  hold_element_state(before.get());
   particles_.distribute(d.part_p, d.part_b);
   decomposition_ = std::move(d);
+}
+
+template <class WholeOf> void Simulation::cut_element_state(WholeOf whole_of) {
+  auto& e = elements_;
+  std::vector<Index> held = subdomain_->elements;
+  held.insert(held.end(), subdomain_->foreign_elements.begin(), subdomain_->foreign_elements.end());
+  e.for_each_state_field([&](const char*, auto& field) {
+    const auto whole = whole_of(field);
+    if (whole.empty())
+      return;
+    std::remove_cvref_t<decltype(whole)> mine(held.size());
+    for (std::size_t s = 0; s < held.size(); ++s)
+      mine[s] = whole[held[s]];
+    field.swap(mine);
+  });
+  e.slot_e.assign(static_cast<std::size_t>(e.size()), -1);
+  for (std::size_t s = 0; s < held.size(); ++s)
+    e.slot_e[held[s]] = static_cast<Index>(s);
+}
+
+void Simulation::hold_element_state(Subdomain* before) {
+  auto& e = elements_;
+  cut_element_state([&](auto& field) {
+    std::remove_reference_t<decltype(field)> whole(static_cast<std::size_t>(e.size()));
+    for (const Index k : before->elements)
+      whole[k] = field[e.slot(k)];
+    before->all_elements.refresh(whole);
+    return whole;
+  });
 }
 
 Simulation::HaloShare Simulation::halo_share() const {
@@ -204,8 +264,7 @@ void Simulation::gather_state() {
   if (!subdomain_)
     return;
   subdomain_->all_nodes.refresh_by_field([this](auto visit) { nodes_.for_each_field(visit); });
-  subdomain_->all_elements.refresh_by_field(
-      [this](auto visit) { elements_.for_each_field(visit); });
+  subdomain_->all_elements.refresh(elements_.eroded_e);
   // Their buffers are not needed until the next checkpoint or new cut; the particles' serve each
   // neighbour-list rebuild.
   subdomain_->all_nodes.release();
@@ -336,11 +395,54 @@ void Simulation::persist(StateArchive& a) {
   a.value("simulation/impulse_scale", impulse_scale_);
   nodes_.for_each_field(
       [&a](const char* name, auto& field) { a.array(std::string("nodes/") + name, field); });
-  elements_.for_each_field(
+  elements_.for_each_mesh_field(
       [&a](const char* name, auto& field) { a.array(std::string("elements/") + name, field); });
+  persist_element_state(a);
   a.value("elements/inelastic", elements_.inelastic);
   particles_.persist(a);
   contact_.persist(a);
+}
+
+void Simulation::persist_element_state(StateArchive& a) {
+  auto& e = elements_;
+  const auto name_of = [](const char* name) { return std::string("elements/") + name; };
+  if (!subdomain_) {
+    e.for_each_state_field([&](const char* name, auto& field) { a.array(name_of(name), field); });
+    return;
+  }
+  const Index ne = e.size();
+  if (a.reading()) { // the whole field, of which this rank keeps its slots
+    e.for_each_state_field([&](const char* name, auto& field) {
+      std::remove_reference_t<decltype(field)> whole, mine(field.size());
+      a.array(name_of(name), whole);
+      for (Index k = 0; k < ne; ++k)
+        if (e.slot_e[k] >= 0)
+          mine[e.slot_e[k]] = whole[k];
+      field.swap(mine);
+    });
+    return;
+  }
+  // Rank 0 receives every other rank's elements, one field at a time, and writes the field.
+  const bool writer = ranks::rank() == 0;
+  std::vector<Index> every;
+  if (writer) {
+    every.resize(static_cast<std::size_t>(ne));
+    std::iota(every.begin(), every.end(), Index{0});
+  }
+  HaloExchange to_writer(decomposition_.part_e, every);
+  e.for_each_state_field([&](const char* name, auto& field) {
+    std::remove_reference_t<decltype(field)> whole;
+    if (writer) {
+      whole.resize(static_cast<std::size_t>(ne));
+      for (const Index k : subdomain_->elements)
+        whole[k] = field[e.slot(k)];
+      to_writer.refresh(whole);
+    } else {
+      BySlot mine{field, e.slot_e};
+      to_writer.refresh(mine);
+    }
+    a.array(name_of(name), whole);
+  });
 }
 
 IndexRange Simulation::own_nodes() const {
@@ -372,9 +474,10 @@ Energies Simulation::energies() const {
                              0.0, 0.0, 0.0};
          }));
   add_to(sum, exact_sums<5>(own_element_range(), [&](Index k) {
-           const double internal = e.e_int_e[k] - 0.5 * e.de_int_e[k];
-           return e.eroded_e[k] ? std::array{0.0, 0.0, 0.0, internal + e.e_hg_e[k], 0.0}
-                                : std::array{0.0, internal, e.e_hg_e[k], 0.0, 0.0};
+           const Index s = e.slot(k);
+           const double internal = e.e_int_e[s] - 0.5 * e.de_int_e[s];
+           return e.eroded_e[k] ? std::array{0.0, 0.0, 0.0, internal + e.e_hg_e[s], 0.0}
+                                : std::array{0.0, internal, e.e_hg_e[s], 0.0, 0.0};
          }));
   sum[1] += background_.energy(p, own_rows(p.size(), p.rows()));
   sum[4] += contact_.energy(p, own_rows(0, p.rows()));
@@ -465,7 +568,8 @@ std::vector<BodyTotals> Simulation::bodies() const {
                return std::array<double, K>{};
              if (e.eroded_e[k])
                return std::array<double, K>{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1.0};
-             return std::array<double, K>{0, 0, e.e_int_e[k] - 0.5 * e.de_int_e[k]};
+             const Index slot = e.slot(k);
+             return std::array<double, K>{0, 0, e.e_int_e[slot] - 0.5 * e.de_int_e[slot]};
            }));
     const ExactSums<3> contact = contact_.force_on(part, body, own_rows(0, part.rows()));
     for (std::size_t j = 0; j < 3; ++j)

@@ -87,8 +87,9 @@ public:
   static constexpr double contact_step_factor = 0.3;
   void step(double dt);
   // A distributed run: every rank's share into this rank's arrays, so that a checkpoint (or a
-  // new decomposition) sees the whole state, as on one process. Collective; nothing to do on
-  // one process.
+  // new decomposition) sees the whole state, as on one process — but for the elements' state
+  // fields, which stay in this rank's slots (HexElements) and which persist() gathers into the
+  // checkpoint one field at a time. Collective; nothing to do on one process.
   void gather_state();
   // A distributed run: when the decomposition's imbalance at the entities' current costs
   // (parallel/decomposition.hpp: current_costs of `reference`, the run's costs at t = 0; killed
@@ -148,7 +149,9 @@ public:
 
   // Checkpoint: time, step, the balances' accumulators and every node, element and particle
   // field; reading it into a simulation built from the same case and model continues that run
-  // bit for bit.
+  // bit for bit, on any number of ranks. A distributed run writes after gather_state(), on
+  // every rank together: rank 0 into the file, the others into a DiscardingArchive, each
+  // element state field gathered on rank 0 as it is written. Collective then.
   void persist(StateArchive& a);
 
 private:
@@ -163,9 +166,23 @@ private:
   // ranks change in number, every rank learns each element's state (the elements a rank does
   // not compute keep old flags otherwise). Collective.
   void share_erosion();
-  // This rank's share of `d` with the interface ties applied (a tied node goes with its
-  // particle). Collective.
+  // This rank's share of a new cut `d` with the interface ties applied (a tied node goes with
+  // its particle). Collective.
   void take_share(Decomposition d, const Model& model);
+  // The elements' reference state (t = 0) in the slots of this rank's share (all on one
+  // process). The background particles' first fill has read V_e, S_e and p_e whole; they are
+  // cut to the share here.
+  void reference_state();
+  // The elements' state fields into the slots of the current share (HexElements) from those of
+  // the share it replaces, `before` (a new cut): each field gathered whole, one at a time, from
+  // the ranks that computed it. Collective.
+  void hold_element_state(Subdomain* before);
+  // Each state field, given whole by element by whole_of(field) (skipped when that is empty),
+  // cut to the slots of this rank's share: its elements, then the others' at its nodes.
+  template <class WholeOf> void cut_element_state(WholeOf whole_of);
+  // persist() of the elements' state fields: each gathered on rank 0 when writing, each rank's
+  // slots taken from the whole field when reading.
+  void persist_element_state(StateArchive& a);
 
   double cfl_;
   FemSpec fem_;
