@@ -100,7 +100,7 @@ template <class ForEach> void HaloExchange::refresh_by_field(ForEach for_each) {
   if (send_.empty())
     return;
   for_each([this](const char* name, auto& field) {
-    refresh_each([&](auto visit) { visit(name, field); });
+    this->refresh_each([&](auto visit) { visit(name, field); });
   });
 }
 

@@ -25,6 +25,7 @@ template <class T> struct BySlot {
   const std::vector<Index>& slot;
   T& operator[](Index e) const { return values[slot[e]]; }
 };
+template <class T> BySlot(std::vector<T>&, const std::vector<Index>&) -> BySlot<T>;
 
 struct HexElements {
   // Mesh fields, by element.
