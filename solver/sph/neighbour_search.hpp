@@ -62,8 +62,8 @@ struct CellGrid {
 // row from the half rows that list it, and sorts rows by original index (row by row when the
 // numbering is close to cell order, else by one transposition of the whole list). Buffers are
 // reused, so rebuilding for a stable particle count does not allocate; the transposition's
-// (a second copy of the list and a count per thread and particle) are freed after it, as it
-// runs only when the numbering is far from cell order: the first build and a restart.
+// buffers (a second copy of the list and a count per thread and particle) are freed after it,
+// as it runs only when the numbering is far from cell order: the first build and a restart.
 // Deterministic: the lists do not depend on the thread count.
 //
 // Room for passive candidates (FE nodes as background particles, searched only as neighbours):

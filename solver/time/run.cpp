@@ -93,6 +93,22 @@ void history_row(const Simulation& sim, double dt, const std::vector<Probe>& pro
 // Energy balance error above which a finished run is flagged (summary.json `warnings`, log).
 constexpr double energy_warning = 0.05;
 
+// Runs f; in a distributed run an error on one rank would leave the others waiting in the next
+// collective call: it ends the job, with the rank that met it named.
+template <class F> void ending_the_job_on_error(bool distributed, F f) {
+  if (!distributed) {
+    f();
+    return;
+  }
+  try {
+    f();
+  } catch (const Error& e) {
+    std::cerr << detail::concat("sphfem: error on MPI rank ", ranks::rank(), ": ", e.what(),
+                                "\n"); // one write: the ranks' lines do not interleave
+    ranks::abort(1);
+  }
+}
+
 // "42 s", "7.5 min", "2.3 h".
 std::string duration_text(double seconds) {
   if (seconds < 10)
@@ -212,14 +228,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   };
   const auto checkpoint = [&] {
     sim.gather_state();
-    if (!decomposition) {
-      write_checkpoint(out / "checkpoint.h5",
-                       {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
-      return;
-    }
-    // Every rank takes part in the element fields' gathers (Simulation::persist); a failure on
-    // the writer would leave the others waiting in them: it ends the job.
-    try {
+    // Every rank takes part in the element fields' gathers (Simulation::persist); rank 0 writes.
+    ending_the_job_on_error(decomposition.has_value(), [&] {
       if (writer) {
         write_checkpoint(out / "checkpoint.h5",
                          {sim.time(), sim.steps(), thread_count(), fingerprint, c.keys}, persist);
@@ -227,11 +237,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
         DiscardingArchive gathers_only;
         sim.persist(gathers_only);
       }
-    } catch (const Error& e) {
-      std::cerr << detail::concat("sphfem: error on MPI rank ", ranks::rank(), ": ", e.what(),
-                                  "\n");
-      ranks::abort(1);
-    }
+    });
   };
   if (restart) {
     read_checkpoint(options.restart, persist);
@@ -265,19 +271,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     dt = std::min(sim.stable_dt(), c.time.end - sim.time());
     SPHFEM_CHECK(dt > 1e-6 * dt0, "time step collapsed to ", dt, " s at t = ", sim.time(), " s (",
                  dt0, " s at start): elements are being crushed; the run is unstable");
-    if (decomposition) {
-      // An error on one rank (an inverted element, say) would leave the others waiting: it ends
-      // the job, with the rank that met it named.
-      try {
-        sim.step(dt);
-      } catch (const Error& e) {
-        std::cerr << detail::concat("sphfem: error on MPI rank ", ranks::rank(), ": ", e.what(),
-                                    "\n"); // one write: the ranks' lines do not interleave
-        ranks::abort(1);
-      }
-    } else {
-      sim.step(dt);
-    }
+    ending_the_job_on_error(decomposition.has_value(), [&] { sim.step(dt); });
     const bool last = sim.time() >= c.time.end - eps;
     const bool history_due = last || sim.time() >= next_history - eps;
     const bool frame_due = last || sim.time() >= next_frame - eps;

@@ -77,9 +77,7 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   if (decomposition != nullptr && decomposition->parts > 1) {
     // A distributed run: this rank's share of the nodes and elements, so that it holds the
     // state of only the elements it computes or reads from the start.
-    decomposition_ = *decomposition;
-    for (Index k = 0; k < ties_.size(); ++k)
-      decomposition_.tie(ties_.particle_id(k), ties_.node(k));
+    decomposition_ = tied(*decomposition);
     subdomain_ = std::make_unique<Subdomain>(make_subdomain(decomposition_, model, ranks::rank()));
   }
   background_ = BackgroundParticles(model.background_nodes);
@@ -129,12 +127,14 @@ void Simulation::reference_state() {
       e.point_e[s] = MaterialPoint::initial(materials_[e.material_e[k]]);
 }
 
-void Simulation::take_share(Decomposition d, const Model& model) {
-  // A tied node goes with its particle: the tie's merge is then one rank's. A background
-  // particle is stepped by the particles' cut (its pair loops are particle-phase work) and
-  // filled by its node's rank.
+Decomposition Simulation::tied(Decomposition d) const {
   for (Index k = 0; k < ties_.size(); ++k)
     d.tie(ties_.particle_id(k), ties_.node(k));
+  return d;
+}
+
+void Simulation::take_share(Decomposition d, const Model& model) {
+  d = tied(std::move(d));
   if (subdomain_)
     halo_bytes_ += subdomain_->bytes_sent();
   const std::unique_ptr<Subdomain> before = std::move(subdomain_);

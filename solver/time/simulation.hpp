@@ -166,8 +166,11 @@ private:
   // ranks change in number, every rank learns each element's state (the elements a rank does
   // not compute keep old flags otherwise). Collective.
   void share_erosion();
-  // This rank's share of a new cut `d` with the interface ties applied (a tied node goes with
-  // its particle). Collective.
+  // `d` with the interface ties applied: a tied node goes with its particle, so that the tie's
+  // merge is one rank's. (A background particle is stepped by the particles' cut — its pair
+  // loops are particle-phase work — and filled by its node's rank.)
+  Decomposition tied(Decomposition d) const;
+  // This rank's share of a new cut `d`, tied. Collective.
   void take_share(Decomposition d, const Model& model);
   // The elements' reference state (t = 0) in the slots of this rank's share (all on one
   // process). The background particles' first fill has read V_e, S_e and p_e whole; they are
