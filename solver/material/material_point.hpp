@@ -15,20 +15,26 @@
 
 #include "solver/core/types.hpp"
 
+#include <array>
+
 namespace sphfem {
 
 struct Material;
 
-// What a point carries from step to step besides its stress.
+// What a point carries from step to step besides its stress. A checkpoint stores its bytes, so
+// the bytes after `failed` are a member, zeroed, not padding (whose bytes are left undefined):
+// two runs then write the same bytes.
 struct MaterialPoint {
   double plastic_strain = 0; // equivalent plastic strain p
   double damaged_strain = 0; // damage-accumulated plastic strain r, ṙ = (1 − D) ṗ
   double damage = 0;         // D
   double temperature = 0;    // T, K
   bool failed = false;       // D reached D_C
+  std::array<unsigned char, 7> unused{};
 
   static MaterialPoint initial(const Material& m);
 };
+static_assert(sizeof(MaterialPoint) == 40, "MaterialPoint has padding: its bytes are undefined");
 
 // Advances the deviatoric stress S (Pa) and the point's history over dt (s) with strain rate D
 // and spin W (1/s) at the end-of-step density ρ (kg/m³). `pressure` (Pa, compression

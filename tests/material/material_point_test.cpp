@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <new>
 
 namespace sphfem {
 namespace {
@@ -229,6 +231,22 @@ struct Eos {
     return k * mu + (gamma0 + a * mu) * E;
   }
 };
+
+// A checkpoint stores a point's bytes: a point made where memory held other bytes, and copied,
+// has the same bytes as one made on zeroed memory.
+TEST(MaterialPoint, ItsBytesAreItsValues) {
+  alignas(MaterialPoint) unsigned char dirty[sizeof(MaterialPoint)], clean[sizeof(MaterialPoint)];
+  std::memset(dirty, 0xA5, sizeof dirty);
+  std::memset(clean, 0, sizeof clean);
+  auto* a = new (dirty) MaterialPoint(worn_point());
+  auto* b = new (clean) MaterialPoint(worn_point());
+  a->failed = b->failed = true;
+  EXPECT_EQ(std::memcmp(dirty, clean, sizeof(MaterialPoint)), 0);
+  std::memset(clean, 0x5A, sizeof clean);
+  b = new (clean) MaterialPoint();
+  *b = *a;
+  EXPECT_EQ(std::memcmp(dirty, clean, sizeof(MaterialPoint)), 0);
+}
 
 TEST(MieGruneisen, PressureMatchesTheFormula) {
   const auto specs = weldox_specs();
