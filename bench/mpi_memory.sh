@@ -4,8 +4,8 @@
 # Børvik standard shot's first µs (50 189 particles and elements) and for bar_impact (1 000: what
 # the libraries and MPI take), at 1, 2 and 4 ranks (oversubscribed). Prints a Markdown table with
 # the bytes per entity over the bar's: what the model costs a rank. Every rank holds the whole
-# model but for the elements' state today (docs/scaling.md), so that figure falls only a little
-# with the rank count; it should not grow with it.
+# model but for the elements' state and neighbour lists today (docs/scaling.md), so that figure
+# falls only a little with the rank count; it should not grow with it.
 #   bench/mpi_memory.sh [SPHFEM=build/app/sphfem] [OUT=/tmp/sphfem_mpi_memory] [RANKS="1 2 4"]
 # About 2 min here.
 set -euo pipefail

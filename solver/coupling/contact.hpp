@@ -35,6 +35,12 @@ public:
   // Whether eroding elements change the contact surfaces (a distributed run then shares the
   // erosion of every element before apply()).
   bool follows_erosion() const { return surface_.follows_erosion(); }
+  // Whether apply() reads the neighbour lists of background rows that a distributed run's rank
+  // does not step: the surface contact finds its candidates from its faces' corners. A rank
+  // evaluates a slave that is its own or near a face with an own corner; the slave's candidate
+  // faces are those with a corner listing it, so it reads the lists of the corners within two
+  // list cutoffs of its own rows.
+  bool reads_lists_of_nearby_background_rows() const { return !surface_.empty(); }
 
   // Penalty energy stored at the last evaluation, J: Σ phi_p over `rows` (a distributed run: the
   // rows this rank owns; each pair's energy is on its slave's row), exactly.

@@ -11,9 +11,9 @@
 //   each carries what the owners wrote since the other (together a third of a row's bytes);
 // - `all`: every row and mirror image this rank does not own (an image is its source's owner's):
 //   their positions and smoothing lengths before a neighbour-list rebuild
-//   (Particles::for_each_listed_field: every rank then sorts and lists all particles as one
-//   process does, and the new halo is refreshed whole after it), every field before a
-//   checkpoint or a new cut.
+//   (Particles::for_each_listed_field: every rank then sorts all particles as one process does,
+//   lists its own rows — and the background rows near them that a coupling reads — and the new
+//   halo is refreshed whole after it), every field before a checkpoint or a new cut.
 // A rank refreshes each step only the mirror images of its visible rows (`visible`), the only
 // ones its rows read; the others are current on their source's owner.
 // Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.

@@ -202,9 +202,13 @@ Index CellGrid::cell_of(const Vec3& x) const {
   return c[0] + n[0] * (c[1] + n[1] * c[2]);
 }
 
-void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, double skin) {
+void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, double skin,
+                            ListedRows listed) {
   SPHFEM_CHECK(x.size() == h.size(), "neighbour search: ", x.size(), " positions but ", h.size(),
                " smoothing lengths");
+  for (const auto flags : {listed.rows, listed.if_near})
+    SPHFEM_CHECK(flags.empty() || flags.size() == x.size(), "neighbour search: ", flags.size(),
+                 " row flags for ", x.size(), " points");
   SPHFEM_CHECK(skin >= 0 && skin < infinity, "neighbour search: invalid skin ", skin);
   SPHFEM_CHECK(x.size() < static_cast<std::size_t>(std::numeric_limits<Index>::max()),
                "neighbour search: too many particles (", x.size(), ")");
@@ -215,27 +219,81 @@ void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, 
   grid_ = CellGrid::make(box.lo, box.hi, cutoff_ / search_reach * (1 + cell_margin),
                          max_cells_for(x.size()));
   bin(x, h);
+  mark_listed(listed);
   // Rows come out in cell order; sorting them by original index costs little when the
-  // numbering is close to cell order (few descents) and is done by one transposition otherwise.
+  // numbering is close to cell order (few descents) and is done by one transposition otherwise
+  // (of all rows: it rebuilds each row from the rows that list it).
   const bool numbered_by_cell = static_cast<std::int64_t>(bins_.descents) * 16 <= std::ssize(x);
-  fill_rows(numbered_by_cell);
-  if (!numbered_by_cell)
+  const bool sort_each_row = numbered_by_cell || !listed_.empty();
+  fill_rows(sort_each_row);
+  if (!sort_each_row)
     sort_by_transposing();
   x_build_.assign(x.begin(), x.end());
   h_build_.assign(h.begin(), h.end());
   built_ = true;
 }
 
-void NeighbourSearch::persist(StateArchive& a) {
+void NeighbourSearch::relist(ListedRows listed) {
+  SPHFEM_CHECK(built_, "neighbour search: relisting before a build (internal error)");
+  list_ = NeighbourList();
+  half_ = HalfLists();
+  const std::vector<Vec3> x = x_build_;
+  const std::vector<double> h = h_build_;
+  build(x, h, skin_, listed);
+}
+
+void NeighbourSearch::persist(StateArchive& a, ListedRows listed) {
   a.array("neighbours/x_build", x_build_);
   a.array("neighbours/h_build", h_build_);
   a.value("neighbours/skin", skin_);
   a.value("neighbours/built", built_);
-  if (a.reading() && built_) {
-    const std::vector<Vec3> x = x_build_;
-    const std::vector<double> h = h_build_;
-    build(x, h, skin_);
+  if (a.reading() && built_)
+    relist(listed);
+}
+
+// The rows listed and the cells whose half rows their lists need: those within search_reach
+// cells of a listed point's along each axis (a listed row's pairs lie there, and each pair is
+// found from the lower of its two cells). Rows `if_near` marks are listed when within
+// 2 search_reach cells of a row `rows` marks, which holds all within two cutoffs (cells are
+// at least cutoff/search_reach wide). Both empty when every row is listed.
+void NeighbourSearch::mark_listed(ListedRows listed) {
+  listed_.clear();
+  searched_.clear();
+  if (listed.rows.empty())
+    return;
+  listed_.assign(listed.rows.begin(), listed.rows.end());
+  if (!listed.if_near.empty()) {
+    const std::vector<unsigned char> near = cells_within(listed_, 2 * search_reach);
+    for (std::size_t i = 0; i < listed_.size(); ++i)
+      listed_[i] = listed_[i] || (listed.if_near[i] && near[bins_.cell[i]]);
   }
+  searched_ = cells_within(listed_, search_reach);
+}
+
+// Per cell: 1 when within `cells` cells, along each axis, of the cell of a point `points` marks
+// (a box dilated along x, then y, then z).
+std::vector<unsigned char> NeighbourSearch::cells_within(std::span<const unsigned char> points,
+                                                         Index cells) const {
+  const Index count = grid_.count();
+  std::vector<unsigned char> near(count, 0), dilated;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (points[i])
+      near[bins_.cell[i]] = 1;
+  const std::array<Index, 3> stride{1, grid_.n[0], grid_.n[0] * grid_.n[1]};
+  for (int d = 0; d < 3; ++d) {
+    dilated.assign(count, 0);
+    for (Index c = 0; c < count; ++c) {
+      if (!near[c])
+        continue;
+      const Index at = (c / stride[d]) % grid_.n[d];
+      const Index lo = std::max<Index>(at - cells, 0);
+      const Index hi = std::min<Index>(at + cells, grid_.n[d] - 1);
+      for (Index a = lo; a <= hi; ++a)
+        dilated[c + (a - at) * stride[d]] = 1;
+    }
+    near.swap(dilated);
+  }
+  return near;
 }
 
 // Counting sort of the particles into cells, stable in the original index.
@@ -271,6 +329,13 @@ void NeighbourSearch::search_upper(Index c, UpperBuffer& rows) {
   const Index cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
   const Index x0 = std::max(cx - reach, 0), x1 = std::min(cx + reach, nx - 1);
   const Index begin = bins_.cell_start[c], end = bins_.cell_start[c + 1];
+  if (!searched_.empty() && !searched_[c]) { // no listed row has a pair here
+    for (Index k = begin; k < end; ++k) {
+      half_.at[k] = rows.used;
+      half_.count[k] = 0;
+    }
+    return;
+  }
   std::array<std::array<Index, 2>, (2 * reach + 1) * (2 * reach + 1)> spans;
   int span_count = 0;
   std::size_t candidates = 0;
@@ -324,6 +389,7 @@ std::span<const Index> NeighbourSearch::upper_row(Index k, int thread, int threa
 //     cells up to one stencil (search_reach (1 + nx + nx ny) linear cells) before them;
 //  3. once the offsets are known, it writes each own row: those k ascending, then the half row,
 //     as original indices; sorted if sort_each_row (else sort_by_transposing follows).
+// Rows not listed (listed_) are left empty.
 // Every write goes to an own particle: no locks, no atomics, and each row's content does not
 // depend on the thread count.
 void NeighbourSearch::fill_rows(bool sort_each_row) {
@@ -331,6 +397,8 @@ void NeighbourSearch::fill_rows(bool sort_each_row) {
   const Index cells = grid_.count();
   const std::vector<Index>& start = bins_.cell_start;
   const std::vector<Index>& order = bins_.order;
+  const bool all = listed_.empty();
+  const auto wanted = [&](Index m) { return all || listed_[order[m]] != 0; };
   const std::int64_t stencil_back =
       search_reach * (1 + grid_.n[0] + static_cast<std::int64_t>(grid_.n[0]) * grid_.n[1]);
   list_.offsets.resize(static_cast<std::size_t>(n) + 1);
@@ -382,7 +450,7 @@ void NeighbourSearch::fill_rows(bool sort_each_row) {
     std::fill(lower + k0, lower + k1, 0);
     for_each_lower([lower](Index, Index m) { ++lower[m]; });
     for (Index m = k0; m < k1; ++m)
-      list_.offsets[order[m] + 1] = lower[m] + half_.count[m];
+      list_.offsets[order[m] + 1] = wanted(m) ? lower[m] + half_.count[m] : 0;
 #pragma omp barrier
 
 #pragma omp single
@@ -400,8 +468,16 @@ void NeighbourSearch::fill_rows(bool sort_each_row) {
       for (Index m = k0; m < k1; ++m)
         lower[m] = list_.offsets[order[m]];
       const Index* original = order.data();
-      for_each_lower([out, lower, original](Index k, Index m) { out[lower[m]++] = original[k]; });
+      if (all)
+        for_each_lower([out, lower, original](Index k, Index m) { out[lower[m]++] = original[k]; });
+      else
+        for_each_lower([&](Index k, Index m) {
+          if (listed_[original[m]])
+            out[lower[m]++] = original[k];
+        });
       for (Index m = k0; m < k1; ++m) {
+        if (!wanted(m))
+          continue;
         Index* row_end = out + lower[m];
         for (Index j : upper_row(m, t, threads))
           *row_end++ = order[j];

@@ -29,7 +29,8 @@ namespace sphfem {
 
 // Full neighbour lists in compressed rows: row i holds every j ≠ i within the build cutoff,
 // sorted ascending. Full (each pair appears in both rows) so that force loops can gather per
-// particle without races.
+// particle without races. A build for some rows only (a distributed run's) leaves the others
+// empty.
 struct NeighbourList {
   std::vector<Index> offsets;    // particle count + 1
   std::vector<Index> neighbours; // the j's, grouped by i
@@ -60,7 +61,8 @@ struct CellGrid {
 // Cell list + Verlet list. A build bins the particles into cells of edge ≥ cutoff/search_reach
 // (counting sort), finds each pair once in a half stencil of the sorted points, completes each
 // row from the half rows that list it, and sorts rows by original index (row by row when the
-// numbering is close to cell order, else by one transposition of the whole list). Buffers are
+// numbering is close to cell order, else by one transposition of the whole list, which needs
+// every row: a build of some rows sorts row by row). Buffers are
 // reused, so rebuilding for a stable particle count does not allocate; the transposition's
 // buffers (a second copy of the list and a count per thread and particle) are freed after it,
 // as it runs only when the numbering is far from cell order: the first build and a restart.
@@ -74,7 +76,21 @@ public:
   // Fills the lists for positions x and smoothing lengths h (skin ≥ 0, in metres). O(N),
   // parallel over cells. Throws sphfem::Error naming the particle for a non-finite position or
   // a negative or non-finite h, and for a negative skin or mismatched sizes.
-  void build(std::span<const Vec3> x, std::span<const double> h, double skin);
+  // The rows a build lists (one flag per point): those `rows` marks (empty: all), and those
+  // `if_near` marks when within two cutoffs of one of them (a coupling reading the lists of
+  // rows near a distributed run's own: the surface contact's face corners). Listed rows are
+  // those of a build of all, the others empty. The search visits only the cells within reach of
+  // a listed point; every point is still binned (build_order and the rebuild condition are of
+  // all). "Within two cutoffs" is decided by cells: some rows farther are listed too.
+  struct ListedRows {
+    std::span<const unsigned char> rows;
+    std::span<const unsigned char> if_near;
+  };
+  void build(std::span<const Vec3> x, std::span<const double> h, double skin,
+             ListedRows listed = {});
+  // Lists the rows `listed` gives from the last build's positions and smoothing lengths (so
+  // those rows are the last build's), and frees what longer lists held.
+  void relist(ListedRows listed);
 
   // True when the list may be missing a pair (see the rebuild condition above), when the
   // particle count changed, before the first build, and for non-finite x or h.
@@ -100,9 +116,10 @@ public:
   // (bench/neighbour_search.cpp), and keeps neighbours close in memory for the force loops.
   const std::vector<Index>& build_order() const { return bins_.order; }
 
-  // Checkpoint: the build-time positions, smoothing lengths and skin; reading rebuilds from them,
-  // which gives the very lists, grid and cell order of that build (a build is deterministic).
-  void persist(StateArchive& a);
+  // Checkpoint: the build-time positions, smoothing lengths and skin; reading rebuilds from them
+  // (the rows `listed` marks), which gives the very lists, grid and cell order of that build (a
+  // build is deterministic).
+  void persist(StateArchive& a, ListedRows listed = {});
 
   // A permutation ordering particles by cell (cell index x fastest, ties by old index):
   // new_to_old[k] is the old index of the particle placed at k. Cells have edge ≥ cell_size
@@ -141,6 +158,8 @@ private:
   static constexpr Index search_reach = 2;
 
   void bin(std::span<const Vec3> x, std::span<const double> h);
+  void mark_listed(ListedRows listed);
+  std::vector<unsigned char> cells_within(std::span<const unsigned char> points, Index cells) const;
   void fill_rows(bool sort_each_row);
   void sort_by_transposing();
   void search_upper(Index c, UpperBuffer& rows);
@@ -150,6 +169,8 @@ private:
   Bins bins_;
   HalfLists half_;
   NeighbourList list_;
+  std::vector<unsigned char> listed_;   // per point, when not all are listed: 1 if listed
+  std::vector<unsigned char> searched_; // per cell, when not all are listed: within reach of one
   std::vector<Vec3> x_build_;
   std::vector<double> h_build_;
   double skin_ = 0;

@@ -6,6 +6,7 @@
 #include "solver/sph/sph_update.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace sphfem {
@@ -90,8 +91,42 @@ void ParticleSystem::rebuild() {
   for (Index k = 0; k < p.size(); ++k)
     index_of_id_[p.id_p[k]] = k;
   place_mirrors();
-  search_.build(p.x_p, p.h_p, skin_);
+  mark_listed();
+  search_.build(p.x_p, p.h_p, skin_, listed());
   ++rebuilds_;
+}
+
+void ParticleSystem::mark_listed() {
+  listed_.clear();
+  listed_if_near_.clear();
+  if (owner_of_id_.empty())
+    return;
+  const auto& p = particles_;
+  const Index n = p.size(), rows = p.rows();
+  const int rank = ranks::rank();
+  listed_.assign(p.total(), 0); // mirror images gather nothing
+  for (Index k = 0; k < n; ++k)
+    listed_[k] = owner_of_id_[p.id_p[k]] == rank;
+  for (Index k = n; k < rows; ++k)
+    listed_[k] = owner_of_background_[k - n] == rank;
+  if (attached_rows_listed_if_near_) {
+    listed_if_near_.assign(p.total(), 0);
+    std::fill(listed_if_near_.begin() + n, listed_if_near_.begin() + rows, 1);
+  }
+}
+
+long long ParticleSystem::pair_loop_entries() const {
+  if (empty())
+    return 0;
+  const NeighbourList& list = search_.list();
+  const Index rows = std::min(particles_.rows(), list.particle_count());
+  if (!share_)
+    return list.offsets[rows];
+  double mine = 0;
+  for (const Index i : share_->own)
+    if (i < rows)
+      mine += static_cast<double>(list.offsets[i + 1] - list.offsets[i]);
+  return std::llround(ranks::sum_in_rank_order(std::array{mine})[0]);
 }
 
 void ParticleSystem::persist(StateArchive& a) {
@@ -103,7 +138,9 @@ void ParticleSystem::persist(StateArchive& a) {
   a.value("particles/excluded", p.excluded);
   p.for_each_field(
       [&a](const char* name, auto& field) { a.array(std::string("particles/") + name, field); });
-  search_.persist(a);
+  if (a.reading())
+    mark_listed();
+  search_.persist(a, listed());
   mirror_.persist(a);
   a.array("particles/index_of_id", index_of_id_);
   a.value("particles/skin", skin_);
@@ -113,12 +150,16 @@ void ParticleSystem::persist(StateArchive& a) {
     share(); // the checkpoint's order and list (collective: every rank reads the checkpoint)
 }
 
-void ParticleSystem::distribute(std::vector<int> owner_of_id,
-                                std::vector<int> owner_of_background) {
+void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
+                                bool attached_rows_listed_if_near) {
   owner_of_id_ = std::move(owner_of_id);
   owner_of_background_ = std::move(owner_of_background);
-  if (!empty())
-    share();
+  attached_rows_listed_if_near_ = attached_rows_listed_if_near;
+  if (empty())
+    return;
+  mark_listed();
+  search_.relist(listed()); // the last build's lists of the rows this rank now steps
+  share();
 }
 
 void ParticleSystem::share() {
@@ -222,7 +263,7 @@ void ParticleSystem::update(double dt) {
   }
   mirror_.refresh_motion(p, p.rows(), visible_rows());
   if (rebuild_due()) {
-    if (share_) { // every rank sorts and lists all particles as one process does
+    if (share_) { // every rank sorts all particles as one process does, and lists its own
       const long long sent = share_->all.bytes_sent();
       share_->all.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
       halo_bytes_ += share_->all.bytes_sent() - sent;

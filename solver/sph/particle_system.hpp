@@ -42,8 +42,12 @@ public:
   // A distributed run (issue 28): from now on this rank steps the particles owner_of_id gives
   // it (by model id) and computes what their forces read (parallel/particle_share.hpp).
   // Collective, as are update(), gather_state() and reading a checkpoint after it.
-  // owner_of_background: the rank of each attached row.
-  void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background);
+  // owner_of_background: the rank of each attached row. The neighbour lists are then of the
+  // rows this rank steps only, and, when `attached_rows_listed_if_near`, of the attached rows
+  // within two list cutoffs of one of them (a coupling reads those: the surface contact finds
+  // its candidates from its faces' corners).
+  void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
+                  bool attached_rows_listed_if_near);
   // Every rank's particles into this rank's arrays (before output); nothing on one process.
   void gather_state();
   // Per row: 1 for the rows this rank steps (all on one process: empty).
@@ -87,19 +91,26 @@ public:
   // Current index of the particle that model.h5 lists at `id`.
   Index index_of(Index id) const { return index_of_id_[id]; }
   long long rebuilds() const { return rebuilds_; }
+  // The neighbour lists: in a distributed run, those of the rows this rank steps (and of the
+  // attached rows near them if distribute() asked); the other rows' are empty.
   const NeighbourList& neighbours() const { return search_.list(); }
+  // Entries in the lists that the pair loops visit (of the particles and background particles;
+  // mirror images gather nothing), over all ranks (collective when distributed).
+  long long pair_loop_entries() const;
   // Checkpoint: every particle field, the neighbour search, the mirror images and the counters
   // that decide the next rebuild.
   void persist(StateArchive& a);
 
 private:
   void rebuild();
+  void mark_listed(); // the rows this rank lists (all on one process: none marked)
+  NeighbourSearch::ListedRows listed() const { return {listed_, listed_if_near_}; }
   void share(); // the share of the current neighbour list
   bool rebuild_due() const;
   void forces(double dt);
   void place_mirrors();
   // A distributed run's rows and images that its own rows read (null on one process: all). The
-  // other images are refreshed at each rebuild only, whose search lists every image.
+  // other images are refreshed at each rebuild only, whose search bins every image.
   const std::vector<Index>* visible_rows() const { return share_ ? &share_->visible : nullptr; }
 
   SphSpec spec_;
@@ -113,9 +124,12 @@ private:
   long long rebuilds_ = 0;
   std::vector<int> owner_of_id_;         // a distributed run's owners by model id; else empty
   std::vector<int> owner_of_background_; // and of the attached rows
-  std::unique_ptr<ParticleShare> share_; // this rank's share of the current list
-  long long halo_bytes_ = 0;             // sent through the shares of earlier lists
-  long long shares_ = 0;                 // shares made so far
+  bool attached_rows_listed_if_near_ = false;
+  std::vector<unsigned char> listed_;         // per row: 1 when this rank lists it; empty: all
+  std::vector<unsigned char> listed_if_near_; // per row: 1 when listed near a listed row
+  std::unique_ptr<ParticleShare> share_;      // this rank's share of the current list
+  long long halo_bytes_ = 0;                  // sent through the shares of earlier lists
+  long long shares_ = 0;                      // shares made so far
 };
 
 } // namespace sphfem

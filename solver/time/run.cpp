@@ -163,22 +163,20 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
            " hexahedra, " + std::to_string(particles) + " particles; " +
            std::to_string(thread_count()) + " threads");
   const ParticleSystem& sph = sim.particle_system();
+  // Entries that a pair loop visits: the lists of real and background particles (mirror
+  // images gather nothing).
+  const long long list_entries = sph.pair_loop_entries();
   if (!sph.empty()) {
     const Particles& p = sph.particles();
     const Index rows = p.rows(), images = p.total() - rows;
     log.line("SPH sums: " + std::to_string(p.size()) + " particles, " +
              std::to_string(rows - p.size()) + " background particles, " + std::to_string(images) +
-             " mirror images; " + std::to_string(sph.neighbours().pair_count() / 2) +
-             " neighbour pairs");
+             " mirror images; " + std::to_string(list_entries) +
+             " neighbour-list entries of particles and background particles");
   }
   const double steps = std::ceil(c.time.end / dt0);
   log.line("stable step " + format("%.4e", dt0) + " s, about " + format("%.0f", steps) +
            " steps to t = " + format("%.4e", c.time.end) + " s");
-  // Entries that a pair loop visits: the lists of real and background particles (mirror
-  // images gather nothing).
-  const NeighbourList& list = sph.neighbours();
-  const long long list_entries =
-      sph.empty() ? 0 : list.offsets[std::min(sph.particles().rows(), list.particle_count())];
   const double estimate =
       estimated_wall_s({elements, nodes, particles, list_entries, steps, thread_count()});
   log.line("estimated wall time " + duration_text(estimate) +

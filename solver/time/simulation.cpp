@@ -91,7 +91,8 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
                  0.0);
   reference_state();
   if (subdomain_)
-    particles_.distribute(decomposition_.part_p, decomposition_.part_b);
+    particles_.distribute(decomposition_.part_p, decomposition_.part_b,
+                          contact_.reads_lists_of_nearby_background_rows());
 
   const std::vector<Index>* computed = subdomain_ ? &subdomain_->elements : nullptr;
   dt_elements_ =
@@ -140,7 +141,7 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   const std::unique_ptr<Subdomain> before = std::move(subdomain_);
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
   hold_element_state(before.get());
-  particles_.distribute(d.part_p, d.part_b);
+  particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows());
   decomposition_ = std::move(d);
 }
 

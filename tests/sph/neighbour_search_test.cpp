@@ -1,7 +1,8 @@
 // Unit tests of the SPH neighbour search (solver/sph/neighbour_search): lists equal to an
 // O(N²) brute force on random clouds with mixed h (cube, thin slab, thin rod), lattice
 // neighbour counts, the Verlet rebuild condition (its thresholds, its tightness and its
-// sufficiency), the cell order, independence of the thread count, and degenerate inputs.
+// sufficiency), the cell order, independence of the thread count, a build of some rows only, and
+// degenerate inputs.
 #include "solver/sph/neighbour_search.hpp"
 
 #include "solver/core/error.hpp"
@@ -219,6 +220,102 @@ TEST(NeighbourSearch, ParallelBuildEqualsBruteForceAndIsThreadCountIndependent) 
     EXPECT_TRUE(one.list().neighbours == two.list().neighbours);
     EXPECT_TRUE(lists_equal(two.list(), brute_force(*cloud, skin)));
   }
+}
+
+// A build of some rows (a distributed run's: a rank's region and a few rows elsewhere) gives
+// those rows the brute force's and leaves the others empty, for a random numbering and the cell
+// order, on 1 and 2 threads alike; its cell order and rebuild condition are the whole build's.
+// Relisting from the last build gives the same rows, and frees the longer lists.
+TEST(NeighbourSearch, SomeRowsListedEqualBruteForceAndTheOthersAreEmpty) {
+  const Cloud c = random_cloud(9000, {1.0, 0.5, 0.3}, 7u);
+  const double skin = 0.3 * c.h[0];
+  NeighbourSearch whole;
+  whole.build(c.x, c.h, skin);
+  const Cloud by_cell = permuted(c, whole.build_order());
+  for (const Cloud* cloud : {&c, &by_cell}) {
+    const auto n = static_cast<Index>(cloud->x.size());
+    std::vector<unsigned char> listed(n, 0);
+    Index listed_count = 0;
+    for (Index i = 0; i < n; ++i) {
+      listed[i] = cloud->x[i].x() < 0.3 || i % 97 == 0;
+      listed_count += listed[i];
+    }
+    ASSERT_GT(listed_count, n / 5);
+    ASSERT_LT(listed_count, n / 2);
+    const Rows all = brute_force(*cloud, skin);
+    Rows expected(n);
+    for (Index i = 0; i < n; ++i)
+      if (listed[i])
+        expected[i] = all[i];
+    NeighbourSearch one, two;
+    {
+      const ThreadCount serial(1);
+      one.build(cloud->x, cloud->h, skin, {listed, {}});
+    }
+    {
+      const ThreadCount parallel(2);
+      two.build(cloud->x, cloud->h, skin, {listed, {}});
+    }
+    EXPECT_TRUE(lists_equal(one.list(), expected));
+    EXPECT_TRUE(one.list().offsets == two.list().offsets);
+    EXPECT_TRUE(one.list().neighbours == two.list().neighbours);
+
+    whole.build(cloud->x, cloud->h, skin);
+    EXPECT_TRUE(one.build_order() == whole.build_order());
+    Cloud moved = *cloud;
+    moved.x[n - 1] += Vec3(0.6 * skin, 0, 0);
+    moved.x[n / 2] -= Vec3(0.6 * skin, 0, 0);
+    EXPECT_TRUE(one.needs_update(moved.x, moved.h));
+    EXPECT_FALSE(one.needs_update(cloud->x, cloud->h));
+
+    const std::size_t whole_entries = whole.list().pair_count();
+    whole.relist({listed, {}});
+    EXPECT_TRUE(lists_equal(whole.list(), expected));
+    EXPECT_LT(whole.list().neighbours.capacity(), whole_entries / 2);
+  }
+}
+
+// Rows listed when near a listed row (the surface contact's corners near a rank's rows): every
+// such row within two cutoffs of a listed row has the brute force's row; rows marked by neither
+// flag are empty, and those farther are either.
+TEST(NeighbourSearch, RowsListedIfNearAListedRow) {
+  const Cloud c = random_cloud(6000, {1.0, 0.5, 0.3}, 11u);
+  const auto n = static_cast<Index>(c.x.size());
+  const double skin = 0.3 * c.h[0];
+  std::vector<unsigned char> listed(n, 0), if_near(n, 0);
+  for (Index i = 0; i < n; ++i) {
+    listed[i] = c.x[i].x() < 0.25;
+    if_near[i] = i % 3 == 0;
+  }
+  NeighbourSearch search;
+  search.build(c.x, c.h, skin, {listed, if_near});
+  const double reach = 2 * search.cutoff();
+  const Rows all = brute_force(c, skin);
+  Index near_count = 0, far_listed = 0, far_count = 0;
+  for (Index i = 0; i < n; ++i) {
+    const auto row = search.list().of(i);
+    const bool full = std::ranges::equal(row, all[i]);
+    if (listed[i]) {
+      EXPECT_TRUE(full) << "listed row " << i;
+      continue;
+    }
+    if (!if_near[i]) {
+      EXPECT_TRUE(row.empty()) << "row " << i << " is listed";
+      continue;
+    }
+    bool near = false;
+    for (Index j = 0; j < n && !near; ++j)
+      near = listed[j] && (c.x[i] - c.x[j]).norm() < reach;
+    near_count += near;
+    far_count += !near;
+    if (near)
+      EXPECT_TRUE(full) << "row " << i << " near a listed row";
+    else
+      EXPECT_TRUE(full || row.empty()) << "row " << i;
+    far_listed += !near && !row.empty();
+  }
+  EXPECT_GT(near_count, 0);
+  EXPECT_LT(far_listed, far_count / 2); // the cells' margin lists some, not most
 }
 
 // Rebuilding for a stable particle count numbered close to cell order (the solver renumbers
