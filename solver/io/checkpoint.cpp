@@ -44,9 +44,12 @@ protected:
     const std::array<hsize_t, 2> dims{count, element};
     H5::LinkCreatPropList link;
     link.setCreateIntermediateGroup(true);
+    // No modification times in the objects: the same state gives the same file, byte for byte.
+    H5::DSetCreatPropList untimed;
+    H5Pset_obj_track_times(untimed.getId(), false);
     const H5::DataSet dataset =
         file_.createDataSet(name, H5::PredType::NATIVE_UCHAR, H5::DataSpace(2, dims.data()),
-                            H5::DSetCreatPropList::DEFAULT, H5::DSetAccPropList::DEFAULT, link);
+                            untimed, H5::DSetAccPropList::DEFAULT, link);
     if (count > 0)
       dataset.write(data, H5::PredType::NATIVE_UCHAR);
     const int bytes = static_cast<int>(element);

@@ -1,9 +1,9 @@
-// Determinism (issue 9): the same case gives the same files twice, and the same files at 1, 2
-// and 3 threads — bit for bit, not within a tolerance. By design: every reduction is a
-// deterministic sum over fixed chunks, the neighbour lists are sorted and independent of the
-// thread split, and loops write only their own entities (gather, no atomics). The scene is the
-// coarse Børvik quarter at 303.5 m/s to 20 µs: particles, hexahedra, background particles,
-// contact, mirror images, plasticity and damage all take part.
+// Determinism (issue 9): the same case gives the same files twice (the checkpoint too), and the
+// same files at 1, 2 and 3 threads — bit for bit, not within a tolerance. By design: every
+// reduction is a deterministic sum over fixed chunks, the neighbour lists are sorted and
+// independent of the thread split, and loops write only their own entities (gather, no atomics).
+// The scene is the coarse Børvik quarter at 303.5 m/s to 20 µs: particles, hexahedra, background
+// particles, contact, mirror images, plasticity and damage all take part.
 #include "tests/support/command.hpp"
 
 #include <gtest/gtest.h>
@@ -56,8 +56,10 @@ void expect_same_files(const fs::path& a, const fs::path& b) {
 
 TEST(Determinism, SameFilesTwiceAndAtAnyThreadCount) {
   const sphfem::test::Scratch scratch("determinism");
-  const fs::path two = solve(scratch.dir, "two", 2);
-  expect_same_files(two, solve(scratch.dir, "two_again", 2));
+  const fs::path two = solve(scratch.dir, "two", 2), two_again = solve(scratch.dir, "two_again", 2);
+  expect_same_files(two, two_again);
+  // The checkpoint too, byte for byte (it names its thread count, so only at the same one).
+  EXPECT_TRUE(slurp(two / "checkpoint.h5") == slurp(two_again / "checkpoint.h5"));
   expect_same_files(two, solve(scratch.dir, "one", 1));
   expect_same_files(two, solve(scratch.dir, "three", 3));
 }
