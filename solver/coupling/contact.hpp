@@ -41,6 +41,9 @@ public:
   // faces are those with a corner listing it, so it reads the lists of the corners within two
   // list cutoffs of its own rows.
   bool reads_lists_of_nearby_background_rows() const { return !surface_.empty(); }
+  // Makes the next apply() find the surface contact's faces and candidates anew: a new cut
+  // changes the rows a rank lists, hence the candidates its lists give.
+  void find_candidates_again() { surface_.forget(); }
 
   // Penalty energy stored at the last evaluation, J: Σ phi_p over `rows` (a distributed run: the
   // rows this rank owns; each pair's energy is on its slave's row), exactly.

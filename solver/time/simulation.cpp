@@ -142,6 +142,7 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
   hold_element_state(before.get());
   particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows());
+  contact_.find_candidates_again();
   decomposition_ = std::move(d);
 }
 
