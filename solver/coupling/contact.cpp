@@ -18,7 +18,7 @@ Contact::Contact(const Case& c, const Model& model, const Particles& p,
       in_contact_[c.body_index(name)] = 1;
 }
 
-void Contact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
+void Contact::apply(Particles& p, const NeighbourList& list, long long lists,
                     const HexElements& elements, double dt, const ContactRanks* ranks) {
   if (empty())
     return;
@@ -30,7 +30,7 @@ void Contact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
   }
   if (!kernel_.empty())
     kernel_.apply(p, list, ranks != nullptr ? ranks->own : nullptr);
-  ContactTotals surface = surface_.apply(p, list, rebuilds, elements, dt, ranks);
+  ContactTotals surface = surface_.apply(p, list, lists, elements, dt, ranks);
   if (ranks != nullptr && !surface_.empty()) {
     ranks::sum_exactly(std::span(&surface.friction_power, 1));
     surface.omega2 = ranks::max(surface.omega2);

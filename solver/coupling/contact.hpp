@@ -26,12 +26,13 @@ public:
 
   bool empty() const { return kernel_.empty() && surface_.empty(); }
   // Sets fc_p to the contact force on every row and adds it to f_p; sets phi_p to each row's
-  // share of the contact energy. rebuilds: the neighbour search's build count; dt: the step just
+  // share of the contact energy. lists: changes whenever the neighbour lists are made anew
+  // (ParticleSystem::list_builds); dt: the step just
   // taken (0 at the start). ranks: a distributed run's (this rank's rows are evaluated; the
   // friction power and the stable step are then the ranks' total and least), null: one process.
   // Collective when distributed.
-  void apply(Particles& p, const NeighbourList& list, long long rebuilds,
-             const HexElements& elements, double dt, const ContactRanks* ranks = nullptr);
+  void apply(Particles& p, const NeighbourList& list, long long lists, const HexElements& elements,
+             double dt, const ContactRanks* ranks = nullptr);
   // Whether eroding elements change the contact surfaces (a distributed run then shares the
   // erosion of every element before apply()).
   bool follows_erosion() const { return surface_.follows_erosion(); }
@@ -41,9 +42,6 @@ public:
   // faces are those with a corner listing it, so it reads the lists of the corners within two
   // list cutoffs of its own rows.
   bool reads_lists_of_nearby_background_rows() const { return !surface_.empty(); }
-  // Makes the next apply() find the surface contact's faces and candidates anew: a new cut
-  // changes the rows a rank lists, hence the candidates its lists give.
-  void find_candidates_again() { surface_.forget(); }
 
   // Penalty energy stored at the last evaluation, J: Σ phi_p over `rows` (a distributed run: the
   // rows this rank owns; each pair's energy is on its slave's row), exactly.

@@ -502,16 +502,16 @@ ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) co
   });
 }
 
-ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, long long rebuilds,
+ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, long long lists,
                                     const HexElements& elements, double dt,
                                     const ContactRanks* ranks) {
   if (pairs_.empty())
     return {};
   if (eroded_seen_ < 0 || eroded_count(elements) != eroded_seen_)
     build_faces(p, elements);
-  if (built_for_ != rebuilds) {
+  if (built_for_ != lists) {
     build_candidates(p, list);
-    built_for_ = rebuilds;
+    built_for_ = lists;
   }
   if (ranks != nullptr && shared_for_ != std::pair{candidate_builds_, ranks->shares}) {
     share(p, *ranks);

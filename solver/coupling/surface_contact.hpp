@@ -98,10 +98,10 @@ public:
   // again (after a checkpoint was read into the state).
   void forget() { eroded_seen_ = -1, built_for_ = -1; }
   // Adds the contact and friction forces to f_p and fc_p of every row (of this rank's rows:
-  // `ranks`, null on one process) and the pairs' energy to phi_p. rebuilds: the neighbour
-  // search's build count (its lists and the particle order change with it); dt: the step just
+  // `ranks`, null on one process) and the pairs' energy to phi_p. lists: changes whenever the
+  // neighbour lists are made anew (the candidates are then found again); dt: the step just
   // taken (0 at the start: no friction then). Collective when the candidates change.
-  ContactTotals apply(Particles& p, const NeighbourList& list, long long rebuilds,
+  ContactTotals apply(Particles& p, const NeighbourList& list, long long lists,
                       const HexElements& elements, double dt, const ContactRanks* ranks = nullptr);
   // Whether the faces follow eroding elements (a distributed run then shares the erosion).
   bool follows_erosion() const { return erodes_; }

@@ -472,7 +472,7 @@ void NeighbourSearch::fill_rows(bool sort_each_row) {
         for_each_lower([out, lower, original](Index k, Index m) { out[lower[m]++] = original[k]; });
       else
         for_each_lower([&](Index k, Index m) {
-          if (listed_[original[m]])
+          if (wanted(m))
             out[lower[m]++] = original[k];
         });
       for (Index m = k0; m < k1; ++m) {

@@ -94,6 +94,7 @@ void ParticleSystem::rebuild() {
   mark_listed();
   search_.build(p.x_p, p.h_p, skin_, listed());
   ++rebuilds_;
+  ++list_builds_;
 }
 
 void ParticleSystem::mark_listed() {
@@ -141,6 +142,7 @@ void ParticleSystem::persist(StateArchive& a) {
   if (a.reading())
     mark_listed();
   search_.persist(a, listed());
+  list_builds_ += a.reading();
   mirror_.persist(a);
   a.array("particles/index_of_id", index_of_id_);
   a.value("particles/skin", skin_);
@@ -159,6 +161,7 @@ void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> o
     return;
   mark_listed();
   search_.relist(listed()); // the last build's lists of the rows this rank now steps
+  ++list_builds_;
   share();
 }
 

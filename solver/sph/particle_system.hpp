@@ -91,6 +91,10 @@ public:
   // Current index of the particle that model.h5 lists at `id`.
   Index index_of(Index id) const { return index_of_id_[id]; }
   long long rebuilds() const { return rebuilds_; }
+  // Changes whenever the neighbour lists are made anew: at each rebuild (the particle order
+  // changes with it) and when the rows a distributed run's rank lists change (a new cut, a
+  // checkpoint read). What is found from the lists (contact candidates) is to be found again.
+  long long list_builds() const { return list_builds_; }
   // The neighbour lists: in a distributed run, those of the rows this rank steps (and of the
   // attached rows near them if distribute() asked); the other rows' are empty.
   const NeighbourList& neighbours() const { return search_.list(); }
@@ -122,6 +126,7 @@ private:
   double skin_ = 0;
   double dt_stable_ = 0;
   long long rebuilds_ = 0;
+  long long list_builds_ = 0;
   std::vector<int> owner_of_id_;         // a distributed run's owners by model id; else empty
   std::vector<int> owner_of_background_; // and of the attached rows
   bool attached_rows_listed_if_near_ = false;

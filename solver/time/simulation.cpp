@@ -87,8 +87,8 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   });
   particle_boundaries_ = ParticleBoundaries(c, model);
   contact_ = Contact(c, model, particles_.particles(), background_, elements_);
-  contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(), elements_,
-                 0.0);
+  contact_.apply(particles_.particles(), particles_.neighbours(), particles_.list_builds(),
+                 elements_, 0.0);
   reference_state();
   if (subdomain_)
     particles_.distribute(decomposition_.part_p, decomposition_.part_b,
@@ -142,7 +142,6 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
   hold_element_state(before.get());
   particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows());
-  contact_.find_candidates_again();
   decomposition_ = std::move(d);
 }
 
@@ -368,10 +367,10 @@ void Simulation::step(double dt) {
   if (const std::vector<Index>* own = particles_.own_rows(); own != nullptr) {
     const ContactRanks ranks{own, particles_.owned_rows(), particles_.shares(),
                              [this](std::span<const Index> rows) { particles_.read_also(rows); }};
-    contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(),
+    contact_.apply(particles_.particles(), particles_.neighbours(), particles_.list_builds(),
                    elements_, dt, &ranks);
   } else {
-    contact_.apply(particles_.particles(), particles_.neighbours(), particles_.rebuilds(),
+    contact_.apply(particles_.particles(), particles_.neighbours(), particles_.list_builds(),
                    elements_, dt);
   }
   if (subdomain_)
