@@ -1,10 +1,9 @@
 // Neighbour search throughput: builds the SPH neighbour lists (solver/sph/neighbour_search,
 // METHOD.md §2) for 100k particles on a jittered lattice (50 × 50 × 40, jitter ±0.1 Δp,
 // h = 1.2 Δp, so ~56 neighbours without skin) at 1 and 2 threads (or the thread counts given),
-// without and with a skin of 0.1 × 2h, for four particle orders: lattice order (x fastest),
-// shuffled, shuffled then sorted by cell_order with cells of 2h, and shuffled then renumbered
-// with build_order (the search grid's own cell order, so rows need no sorting). Best of the
-// repetitions (a shared virtual machine's timings scatter). Also times needs_update. Prints JSON.
+// without and with a skin of 0.1 × 2h, for two particle orders: lattice order (x fastest, the
+// mesher's, which the solver keeps) and shuffled. Best of the repetitions (a shared virtual
+// machine's timings scatter). Also times needs_update. Prints JSON.
 //   bench_neighbour_search [repetitions] [threads...]
 #include "solver/sph/neighbour_search.hpp"
 #include "bench/command_line.hpp"
@@ -68,7 +67,7 @@ template <class Work> double best_ms(int repetitions, Work work) {
 
 constexpr const char* kUsage =
     "usage: bench_neighbour_search [repetitions=7] [threads...=1 2]\n"
-    "Builds the SPH neighbour lists for 100k particles in four particle orders, without and with\n"
+    "Builds the SPH neighbour lists for 100k particles in two particle orders, without and with\n"
     "a skin, best of the repetitions. Prints JSON.\n";
 
 int main(int argc, char** argv) {
@@ -85,19 +84,11 @@ int main(int argc, char** argv) {
   std::iota(shuffle.begin(), shuffle.end(), 0);
   std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937(7u));
   const Particles shuffled = permuted(lattice, shuffle);
-  const Particles cell_sorted =
-      permuted(shuffled, NeighbourSearch::cell_order(shuffled.x, 2.4 * dp));
 
   nlohmann::json runs = nlohmann::json::array();
   for (const double skin : {0.0, 0.24 * dp}) {
-    NeighbourSearch first;
-    first.build(shuffled.x, shuffled.h, skin);
-    const Particles build_ordered = permuted(shuffled, first.build_order());
-    const std::vector<std::pair<std::string, const Particles*>> orders{
-        {"lattice", &lattice},
-        {"shuffled", &shuffled},
-        {"cell_order_2h", &cell_sorted},
-        {"build_order", &build_ordered}};
+    const std::vector<std::pair<std::string, const Particles*>> orders{{"lattice", &lattice},
+                                                                       {"shuffled", &shuffled}};
     for (const auto& [order, p] : orders) {
       nlohmann::json timings = nlohmann::json::array();
       double base = 0;

@@ -144,9 +144,9 @@ void sort_by_cell(const std::vector<Index>& cell, Index cells, std::vector<Index
   start[0] = 0;
 }
 
-// Sorts a row by original index. A row is a run of ascending indices per cell; when the
-// particles are in cell order (see build_order) it is sorted already, and when they are
-// nearly so a few descents remain, for which insertion sort is linear.
+// Sorts a row by original index. A row is a run of ascending indices per cell of the stencil;
+// a row with at most two descents (a numbering close to the cells' order) sorts by insertion in
+// linear time.
 void sort_row(Index* begin, Index* end) {
   int descents = 0;
   for (const Index* p = begin + 1; p < end; ++p)
@@ -220,14 +220,7 @@ void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, 
                          max_cells_for(x.size()));
   bin(x, h);
   mark_listed(listed);
-  // Rows come out in cell order; sorting them by original index costs little when the
-  // numbering is close to cell order (few descents) and is done by one transposition otherwise
-  // (of all rows: it rebuilds each row from the rows that list it).
-  const bool numbered_by_cell = static_cast<std::int64_t>(bins_.descents) * 16 <= std::ssize(x);
-  const bool sort_each_row = numbered_by_cell || !listed_.empty();
-  fill_rows(sort_each_row);
-  if (!sort_each_row)
-    sort_by_transposing();
+  fill_rows();
   x_build_.assign(x.begin(), x.end());
   h_build_.assign(h.begin(), h.end());
   built_ = true;
@@ -304,13 +297,7 @@ void NeighbourSearch::bin(std::span<const Vec3> x, std::span<const double> h) {
   for (Index i = 0; i < n; ++i)
     bins_.cell[i] = grid_.cell_of(x[i]);
   sort_by_cell(bins_.cell, grid_.count(), bins_.cell_start, bins_.order);
-
   const std::vector<Index>& order = bins_.order;
-  Index descents = 0;
-#pragma omp parallel for schedule(static) reduction(+ : descents) if (n > parallel_min_items)
-  for (Index k = 1; k < n; ++k)
-    descents += static_cast<Index>(order[k] < order[k - 1]);
-  bins_.descents = descents;
   bins_.points.resize(n);
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
   for (Index k = 0; k < n; ++k) {
@@ -388,11 +375,11 @@ std::span<const Index> NeighbourSearch::upper_row(Index k, int thread, int threa
 //  2. it counts, for each own m, the k < m that listed it: those k lie in own cells or in the
 //     cells up to one stencil (search_reach (1 + nx + nx ny) linear cells) before them;
 //  3. once the offsets are known, it writes each own row: those k ascending, then the half row,
-//     as original indices; sorted if sort_each_row (else sort_by_transposing follows).
+//     as original indices, sorted.
 // Rows not listed (listed_) are left empty.
 // Every write goes to an own particle: no locks, no atomics, and each row's content does not
 // depend on the thread count.
-void NeighbourSearch::fill_rows(bool sort_each_row) {
+void NeighbourSearch::fill_rows() {
   const Index n = static_cast<Index>(bins_.order.size());
   const Index cells = grid_.count();
   const std::vector<Index>& start = bins_.cell_start;
@@ -481,62 +468,11 @@ void NeighbourSearch::fill_rows(bool sort_each_row) {
         Index* row_end = out + lower[m];
         for (Index j : upper_row(m, t, threads))
           *row_end++ = order[j];
-        if (sort_each_row)
-          sort_row(out + list_.offsets[order[m]], row_end);
+        sort_row(out + list_.offsets[order[m]], row_end);
       }
     }
   }
   SPHFEM_CHECK(fits, "neighbour search: more than 2^31 neighbour entries for ", n, " particles");
-}
-
-// Sorts all rows at once: the lists are symmetric, so scanning the rows i in ascending order
-// and appending i to the row of each of its neighbours j rebuilds them with every row in
-// ascending order. Thread t scans the rows [i0, i1) holding ~1/threads of the entries; its
-// entries in row j follow those of the threads before it (per-thread counts), so no two
-// threads write the same place. At most 8 threads: the counts take threads × N entries.
-void NeighbourSearch::sort_by_transposing() {
-  const Index n = list_.particle_count();
-  const int team = std::min(thread_limit(), 8);
-  // Per thread and particle: entries, then write cursors.
-  std::vector<Index> counts(static_cast<std::size_t>(team) * n);
-  std::vector<Index> sorted(list_.neighbours.size());
-  const Index* offsets = list_.offsets.data();
-  const Index* in = list_.neighbours.data();
-  Index* out = sorted.data();
-
-#pragma omp parallel num_threads(team) if (n > parallel_min_items)
-  {
-    const int t = thread_id(), threads = thread_count();
-    const auto first_row = [&](int share) {
-      const auto target =
-          static_cast<Index>(static_cast<std::int64_t>(offsets[n]) * share / threads);
-      return share == threads
-                 ? n
-                 : static_cast<Index>(std::lower_bound(offsets, offsets + n, target) - offsets);
-    };
-    const Index i0 = first_row(t), i1 = first_row(t + 1);
-    Index* count = counts.data() + static_cast<std::size_t>(t) * n;
-    std::fill(count, count + n, 0);
-    for (Index k = offsets[i0]; k < offsets[i1]; ++k)
-      ++count[in[k]];
-#pragma omp barrier
-    const auto j0 = static_cast<Index>(static_cast<std::int64_t>(n) * t / threads);
-    const auto j1 = static_cast<Index>(static_cast<std::int64_t>(n) * (t + 1) / threads);
-    for (Index j = j0; j < j1; ++j) {
-      Index at = offsets[j];
-      for (int s = 0; s < threads; ++s) {
-        Index& c = counts[static_cast<std::size_t>(s) * n + j];
-        const Index entries = c;
-        c = at;
-        at += entries;
-      }
-    }
-#pragma omp barrier
-    for (Index i = i0; i < i1; ++i)
-      for (Index k = offsets[i]; k < offsets[i + 1]; ++k)
-        out[count[in[k]]++] = i;
-  }
-  list_.neighbours.swap(sorted);
 }
 
 bool NeighbourSearch::needs_update(std::span<const Vec3> x, std::span<const double> h) const {
@@ -570,20 +506,6 @@ bool NeighbourSearch::exceeds_skin(const std::array<double, 2>& top) const {
   if (top[0] == infinity)
     return true;
   return top[0] + top[1] > skin_; // −∞ for a single particle: no pair to miss
-}
-
-std::vector<Index> NeighbourSearch::cell_order(std::span<const Vec3> x, double cell_size) {
-  SPHFEM_CHECK(cell_size > 0, "cell order: cell size must be positive, got ", cell_size);
-  const Index n = static_cast<Index>(x.size());
-  const Box box = bounding_box(x);
-  const CellGrid grid = CellGrid::make(box.lo, box.hi, cell_size, max_cells_for(x.size()));
-  std::vector<Index> cell(n);
-#pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index i = 0; i < n; ++i)
-    cell[i] = grid.cell_of(x[i]);
-  std::vector<Index> start, new_to_old;
-  sort_by_cell(cell, grid.count(), start, new_to_old);
-  return new_to_old;
 }
 
 } // namespace sphfem

@@ -60,12 +60,10 @@ struct CellGrid {
 
 // Cell list + Verlet list. A build bins the particles into cells of edge ≥ cutoff/search_reach
 // (counting sort), finds each pair once in a half stencil of the sorted points, completes each
-// row from the half rows that list it, and sorts rows by original index (row by row when the
-// numbering is close to cell order, else by one transposition of the whole list, which needs
-// every row: a build of some rows sorts row by row). Buffers are
-// reused, so rebuilding for a stable particle count does not allocate; the transposition's
-// buffers (a second copy of the list and a count per thread and particle) are freed after it,
-// as it runs only when the numbering is far from cell order: the first build and a restart.
+// row from the half rows that list it, and sorts each row by original index. So a row's order,
+// hence the order of every sum over it, is the numbering's alone: a subset of the points numbered
+// in the same relative order (a distributed run's rank) lists its rows in the same order.
+// Buffers are reused, so rebuilding for a stable particle count does not allocate.
 // Deterministic: the lists do not depend on the thread count.
 //
 // Room for passive candidates (FE nodes as background particles, searched only as neighbours):
@@ -80,8 +78,8 @@ public:
   // `if_near` marks when within two cutoffs of one of them (a coupling reading the lists of
   // rows near a distributed run's own: the surface contact's face corners). Listed rows are
   // those of a build of all, the others empty. The search visits only the cells within reach of
-  // a listed point; every point is still binned (build_order and the rebuild condition are of
-  // all). "Within two cutoffs" is decided by cells: some rows farther are listed too.
+  // a listed point; every point is still binned (the rebuild condition is of all). "Within two
+  // cutoffs" is decided by cells: some rows farther are listed too.
   struct ListedRows {
     std::span<const unsigned char> rows;
     std::span<const unsigned char> if_near;
@@ -110,21 +108,11 @@ public:
   // Largest pair cutoff at the last build: 2 max h + skin.
   double cutoff() const { return cutoff_; }
   const CellGrid& grid() const { return grid_; }
-  // The cell order of the last build (new_to_old, like cell_order on the search grid).
-  // Renumbering the particles with it (then rebuilding) makes rows come out sorted without the
-  // transposition, which builds ~1.4× faster from lattice order and ~3× from a random one
-  // (bench/neighbour_search.cpp), and keeps neighbours close in memory for the force loops.
-  const std::vector<Index>& build_order() const { return bins_.order; }
 
   // Checkpoint: the build-time positions, smoothing lengths and skin; reading rebuilds from them
-  // (the rows `listed` marks), which gives the very lists, grid and cell order of that build (a
-  // build is deterministic).
+  // (the rows `listed` marks), which gives the very lists and grid of that build (a build is
+  // deterministic).
   void persist(StateArchive& a, ListedRows listed = {});
-
-  // A permutation ordering particles by cell (cell index x fastest, ties by old index):
-  // new_to_old[k] is the old index of the particle placed at k. Cells have edge ≥ cell_size
-  // (enlarged when needed to keep at most 2N + 1 cells). Throws for non-finite positions.
-  static std::vector<Index> cell_order(std::span<const Vec3> x, double cell_size);
 
 private:
   struct Point {
@@ -136,7 +124,6 @@ private:
     std::vector<Index> order;      // sorted position → original index
     std::vector<Point> points;     // x, h in sorted order
     std::vector<Index> cell;       // cell of each original index (scratch)
-    Index descents = 0;            // k with order[k] < order[k − 1]: distance from cell order
   };
   // Half lists in sorted positions: for each sorted point k, the m > k within the cutoff,
   // ascending. A thread's rows are in its own buffer: entries[0, used) are filled and entries
@@ -160,8 +147,7 @@ private:
   void bin(std::span<const Vec3> x, std::span<const double> h);
   void mark_listed(ListedRows listed);
   std::vector<unsigned char> cells_within(std::span<const unsigned char> points, Index cells) const;
-  void fill_rows(bool sort_each_row);
-  void sort_by_transposing();
+  void fill_rows();
   void search_upper(Index c, UpperBuffer& rows);
   std::span<const Index> upper_row(Index k, int thread, int threads) const;
 

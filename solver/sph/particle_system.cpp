@@ -11,18 +11,6 @@
 
 namespace sphfem {
 
-namespace {
-
-// Reorders the first new_to_old.size() entries (the real particles); the rest stay.
-template <class T> void permute(std::vector<T>& field, const std::vector<Index>& new_to_old) {
-  std::vector<T> sorted(field);
-  for (std::size_t k = 0; k < new_to_old.size(); ++k)
-    sorted[k] = field[new_to_old[k]];
-  field.swap(sorted);
-}
-
-} // namespace
-
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
                                const std::vector<Material>& materials, Index attached,
                                const AttachRows& attach)
@@ -53,6 +41,8 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
     largest_h = std::max(largest_h, p.h_p[i]);
   skin_ = spec_.skin * 2.0 * largest_h;
   index_of_id_.resize(n);
+  for (Index k = 0; k < n; ++k)
+    index_of_id_[p.id_p[k]] = k;
   rebuild();
   sph_kinematics(p, search_.list(), spec_, 0.0);
   mirror_.refresh_stress(p, p.rows());
@@ -73,23 +63,9 @@ void ParticleSystem::place_mirrors() {
   mirror_.refresh_stress(p, p.rows());
 }
 
+// The rows keep the model's order (see the header): the lists' rows are sorted by it.
 void ParticleSystem::rebuild() {
   auto& p = particles_;
-  // Renumber in the cell order of the last build (the particles have moved little since; at
-  // the start, of a first build) for locality, then list: lists filled in near-cell order take
-  // the search's fast path (≈ 1.4× faster, bench/neighbour_search.cpp).
-  if (rebuilds_ == 0) {
-    place_mirrors();
-    search_.build(p.x_p, p.h_p, skin_);
-  }
-  std::vector<Index> order;
-  order.reserve(p.size());
-  for (Index k : search_.build_order())
-    if (k < p.size())
-      order.push_back(k);
-  p.for_each_field([&order](const char*, auto& field) { permute(field, order); });
-  for (Index k = 0; k < p.size(); ++k)
-    index_of_id_[p.id_p[k]] = k;
   place_mirrors();
   mark_listed();
   search_.build(p.x_p, p.h_p, skin_, listed());

@@ -1,8 +1,11 @@
 // The SPH half of a simulation: the particles, their neighbour search and the per-step
 // sequence of METHOD.md §7 for particles — kick (v^{n+½} = v^{n−½} + Δt f/m), drift
 // (x^{n+1} = xⁿ + Δt (v^{n+½} + XSPH)), then the particle phase of sph_update.hpp on the new
-// positions. Particles are kept sorted by cell (reordered whenever the neighbour list is
-// rebuilt); id_p and index_of() map back to model.h5 order. With coupling (METHOD.md §4) the
+// positions. The particles keep model.h5's order (id_p and index_of() map between the two, for
+// a checkpoint written before 2026-12-07, when rows were renumbered by cell at each rebuild):
+// every neighbour row, so every sum over one, runs in that order, which is the same for any
+// subset of the rows numbered alike — a distributed rank's. Mirror images follow in the order
+// of their sources, background rows in their nodes' order. With coupling (METHOD.md §4) the
 // arrays continue with rows another phase attaches — the background particles of FE nodes,
 // which the step (time/simulation.cpp) fills before each particle phase and whose forces it
 // takes back after it, with the contact between bodies (coupling/). The particle phase itself
@@ -91,9 +94,9 @@ public:
   // Current index of the particle that model.h5 lists at `id`.
   Index index_of(Index id) const { return index_of_id_[id]; }
   long long rebuilds() const { return rebuilds_; }
-  // Changes whenever the neighbour lists are made anew: at each rebuild (the particle order
-  // changes with it) and when the rows a distributed run's rank lists change (a new cut, a
-  // checkpoint read). What is found from the lists (contact candidates) is to be found again.
+  // Changes whenever the neighbour lists are made anew: at each rebuild and when the rows a
+  // distributed run's rank lists change (a new cut, a checkpoint read). What is found from the
+  // lists (contact candidates) is to be found again.
   long long list_builds() const { return list_builds_; }
   // The neighbour lists: in a distributed run, those of the rows this rank steps (and of the
   // attached rows near them if distribute() asked); the other rows' are empty.

@@ -1,6 +1,6 @@
 // SPH particles as a struct of arrays (STYLE.md B): kinematics, material state and the
-// per-step rates, plus for_each_field so reordering (cell sorting) and checkpoints never forget
-// a field.
+// per-step rates, plus for_each_field so resizing, exchanges and checkpoints never forget a
+// field.
 #pragma once
 
 #include "solver/core/types.hpp"
@@ -44,7 +44,9 @@ struct Particles {
   std::vector<int> body_p;
   std::vector<int> group_p; // bodies glued by attachment share a group; sums run within one
   std::vector<int> material_p;
-  std::vector<Index> id_p;            // index in model.h5 (particles are reordered by cell)
+  // Index in model.h5: the row's own, but in a checkpoint written before 2026-12-07 (rows were
+  // renumbered by cell then).
+  std::vector<Index> id_p;
   std::vector<MaterialPoint> point_p; // plastic strain, damage, temperature (inelastic materials)
   std::vector<Kill> kill_p;           // particle kill state
   // Surface contact (coupling/surface_contact.hpp), per slave: its signed distance from the
@@ -114,7 +116,7 @@ struct Particles {
   bool out_of_sums(Index j) const { return kill_p[j] == Kill::Tension; }
   Index total() const { return static_cast<Index>(x_p.size()); }
 
-  // Visits every per-particle array with its name (resize, reorder, checkpoint).
+  // Visits every per-particle array with its name (resize, exchange, checkpoint).
   template <class Visit> void for_each_field(Visit visit) {
     visit("x0_p", x0_p);
     visit("x_p", x_p);
@@ -157,10 +159,10 @@ struct Particles {
     visit("phi_p", phi_p);
   }
 
-  // What a distributed run's neighbour-list rebuild reads of every row, each rank sorting all
+  // What a distributed run's neighbour-list rebuild reads of every row, each rank binning all
   // particles as one process does and listing its own (parallel/particle_share.hpp): where the
-  // rows are and how far they reach. The rest of a row moves with it through the renumbering, the
-  // same on every rank; the rows a rank reads after the rebuild are then refreshed whole.
+  // rows are and how far they reach. The rows a rank reads after the rebuild are then refreshed
+  // whole.
   template <class Visit> void for_each_listed_field(Visit visit) {
     visit("x_p", x_p);
     visit("h_p", h_p);

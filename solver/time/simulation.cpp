@@ -217,7 +217,8 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   r.before = r.after = phase_imbalance(phases);
   if (!(r.before > threshold))
     return r;
-  // The costs now, by model entity (particles are stored in cell order), from the whole state.
+  // The costs now, by model entity (through id_p: a row's own id but in an old checkpoint), from
+  // the whole state.
   gather_state();
   const Index np = p.size(), ne = elements_.size();
   std::vector<int> neighbours(static_cast<std::size_t>(np));

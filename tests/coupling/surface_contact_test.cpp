@@ -420,7 +420,7 @@ contact:
   const auto& p = sim.particle_system().particles();
   int pressed_checked = 0, free_with_xsph = 0;
   while (sim.time() < 1.0e-5) {
-    std::vector<Index> pressed; // by id: the particles are reordered when the lists are rebuilt
+    std::vector<Index> pressed; // by model id
     for (Index i = 0; i < p.size(); ++i)
       if (p.fc_p[i] != Vec3::Zero())
         pressed.push_back(p.id_p[i]);

@@ -1,7 +1,8 @@
 // Unit tests of the SPH neighbour search (solver/sph/neighbour_search): lists equal to an
 // O(N²) brute force on random clouds with mixed h (cube, thin slab, thin rod), lattice
 // neighbour counts, the Verlet rebuild condition (its thresholds, its tightness and its
-// sufficiency), the cell order, independence of the thread count, a build of some rows only, and
+// sufficiency), rows sorted by index whatever the numbering (and so alike for a subset numbered
+// alike), the cell grid, independence of the thread count, a build of some rows only, and
 // degenerate inputs.
 #include "solver/sph/neighbour_search.hpp"
 
@@ -14,6 +15,7 @@
 #endif
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -23,6 +25,7 @@
 #include <random>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 using namespace sphfem;
@@ -99,6 +102,16 @@ Cloud permuted(const Cloud& c, const std::vector<Index>& new_to_old) {
     out.h.push_back(c.h[old]);
   }
   return out;
+}
+
+// A numbering along x (ties by index): spatially coherent like a lattice's, and far from the
+// search's cell order (rows gather many ascending runs).
+std::vector<Index> along_x(const Cloud& c) {
+  std::vector<Index> order(c.x.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&c](Index a, Index b) { return c.x[a].x() < c.x[b].x(); });
+  return order;
 }
 
 // The listing predicate written out independently: r < h_i + h_j + skin, compared squared.
@@ -200,15 +213,13 @@ INSTANTIATE_TEST_SUITE_P(Clouds, BruteForce,
                          brute_force_name);
 
 // Above parallel_min_items the rows are found on several threads: still the brute force, and
-// bit-identical lists for 1 and 2 threads, for a random numbering (rows sorted by the
-// transposition) and for the build's cell order (rows sorted one by one).
+// bit-identical lists for 1 and 2 threads, for a random numbering and one along x.
 TEST(NeighbourSearch, ParallelBuildEqualsBruteForceAndIsThreadCountIndependent) {
   const Cloud c = random_cloud(9000, {1.0, 0.5, 0.3}, 99u);
   const double skin = 0.3 * c.h[0];
   NeighbourSearch one, two;
-  one.build(c.x, c.h, skin);
-  const Cloud by_cell = permuted(c, one.build_order());
-  for (const Cloud* cloud : {&c, &by_cell}) {
+  const Cloud by_x = permuted(c, along_x(c));
+  for (const Cloud* cloud : {&c, &by_x}) {
     {
       const ThreadCount serial(1);
       one.build(cloud->x, cloud->h, skin);
@@ -224,16 +235,15 @@ TEST(NeighbourSearch, ParallelBuildEqualsBruteForceAndIsThreadCountIndependent) 
 }
 
 // A build of some rows (a distributed run's: a rank's region and a few rows elsewhere) gives
-// those rows the brute force's and leaves the others empty, for a random numbering and the cell
-// order, on 1 and 2 threads alike; its cell order and rebuild condition are the whole build's.
-// Relisting from the last build gives the same rows, and frees the longer lists.
+// those rows the brute force's and leaves the others empty, for a random numbering and one along
+// x, on 1 and 2 threads alike; its rebuild condition is the whole build's. Relisting from the
+// last build gives the same rows, and frees the longer lists.
 TEST(NeighbourSearch, SomeRowsListedEqualBruteForceAndTheOthersAreEmpty) {
   const Cloud c = random_cloud(5000, {1.0, 0.5, 0.3}, 7u); // above parallel_min_items
   const double skin = 0.3 * c.h[0];
   NeighbourSearch whole;
-  whole.build(c.x, c.h, skin);
-  const Cloud by_cell = permuted(c, whole.build_order());
-  for (const Cloud* cloud : {&c, &by_cell}) {
+  const Cloud by_x = permuted(c, along_x(c));
+  for (const Cloud* cloud : {&c, &by_x}) {
     const auto n = static_cast<Index>(cloud->x.size());
     std::vector<unsigned char> listed(n, 0);
     Index listed_count = 0;
@@ -258,7 +268,6 @@ TEST(NeighbourSearch, SomeRowsListedEqualBruteForceAndTheOthersAreEmpty) {
     EXPECT_TRUE(one.list().neighbours == two.list().neighbours);
 
     whole.build(cloud->x, cloud->h, skin);
-    EXPECT_TRUE(one.build_order() == whole.build_order());
     Cloud moved = *cloud;
     moved.x[n - 1] += Vec3(0.6 * skin, 0, 0);
     moved.x[n / 2] -= Vec3(0.6 * skin, 0, 0);
@@ -318,40 +327,27 @@ TEST(NeighbourSearch, RowsListedIfNearAListedRow) {
   EXPECT_LT(far_listed, far_count / 2); // the cells' margin lists some, not most
 }
 
-// Rebuilding for a stable particle count numbered close to cell order (the solver renumbers
-// before each rebuild) allocates nothing (counted by the operator new above). Far from cell
-// order the rows are sorted by a transposition, whose scratch is allocated for it and freed
-// after: the search then holds as many blocks as before.
+// Rebuilding for a stable particle count allocates nothing (counted by the operator new above),
+// for a random numbering and one along x alike, and holds as many blocks as before.
 TEST(NeighbourSearch, RebuildDoesNotAllocate) {
   const Cloud c = random_cloud(6000, {1.0, 1.0, 1.0}, 5u);
-  NeighbourSearch search;
-  search.build(c.x, c.h, 0.0);
-  const Cloud by_cell = permuted(c, search.build_order()); // as the solver renumbers
-  Cloud moved = by_cell; // the same order, every particle moved a little
-  for (std::size_t i = 0; i < moved.x.size(); ++i)
-    moved.x[i] += 1e-3 * Vec3(std::sin(1.0 * i), std::cos(2.0 * i), std::sin(3.0 * i));
-  for (int warm_up = 0; warm_up < 3; ++warm_up) {
-    search.build(by_cell.x, by_cell.h, 0.0);
+  const Cloud by_x = permuted(c, along_x(c));
+  for (const Cloud* cloud : {&c, &by_x}) {
+    Cloud moved = *cloud; // the same order, every particle moved a little
+    for (std::size_t i = 0; i < moved.x.size(); ++i)
+      moved.x[i] += 1e-3 * Vec3(std::sin(1.0 * i), std::cos(2.0 * i), std::sin(3.0 * i));
+    NeighbourSearch search;
+    for (int warm_up = 0; warm_up < 3; ++warm_up) {
+      search.build(cloud->x, cloud->h, 0.0);
+      search.build(moved.x, moved.h, 0.0);
+    }
+    const long before = allocations.load(), held_before = held.load();
+    search.build(cloud->x, cloud->h, 0.0);
     search.build(moved.x, moved.h, 0.0);
-  }
-  const long before = allocations.load();
-  search.build(by_cell.x, by_cell.h, 0.0);
-  search.build(moved.x, moved.h, 0.0);
-  search.build(by_cell.x, by_cell.h, 0.0);
-  EXPECT_FALSE(search.needs_update(by_cell.x, by_cell.h));
-  EXPECT_EQ(allocations.load() - before, 0);
-
-  Cloud reflected = c; // same pairs, the reverse of a cell order
-  for (Vec3& p : reflected.x)
-    p = Vec3(1, 1, 1) - p;
-  for (const Cloud* cloud : {&c, static_cast<const Cloud*>(&reflected)}) {
-    NeighbourSearch far;
-    far.build(cloud->x, cloud->h, 0.0);
-    const long held_before = held.load(), allocations_before = allocations.load();
-    far.build(cloud->x, cloud->h, 0.0);
-    EXPECT_GT(allocations.load() - allocations_before, 0); // the transposition's scratch ...
-    EXPECT_EQ(held.load() - held_before, 0);               // ... freed
-    EXPECT_FALSE(far.needs_update(cloud->x, cloud->h));
+    search.build(cloud->x, cloud->h, 0.0);
+    EXPECT_FALSE(search.needs_update(cloud->x, cloud->h));
+    EXPECT_EQ(allocations.load() - before, 0);
+    EXPECT_EQ(held.load() - held_before, 0);
   }
 }
 
@@ -512,49 +508,58 @@ TEST_F(Rebuild, TrueForOtherCountsNonFiniteStateAndBeforeBuild) {
   EXPECT_TRUE(search.needs_update(bad.x, bad.h));
 }
 
-// --- Cell order ---------------------------------------------------------------------------
+// --- Cell grid and numbering ---------------------------------------------------------------
 
-TEST(NeighbourSearch, CellOrderIsAPermutationSortedByCell) {
+// Cells are at least the edge asked for, at most max_cells of them, and cell_of places every
+// point in the cell holding it.
+TEST(NeighbourSearch, CellGridCellsHoldTheirPoints) {
   const Cloud c = random_cloud(3000, {1.0, 0.6, 0.3}, 3u);
-  const double cell_size = 0.05;
-  const std::vector<Index> order = NeighbourSearch::cell_order(c.x, cell_size);
-  std::vector<Index> sorted = order;
-  std::sort(sorted.begin(), sorted.end());
-  std::vector<Index> identity(c.x.size());
-  std::iota(identity.begin(), identity.end(), 0);
-  EXPECT_EQ(sorted, identity);
-
+  const double edge = 0.05;
   Vec3 lo = c.x[0], hi = c.x[0];
   for (const Vec3& p : c.x) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const CellGrid grid = CellGrid::make(lo, hi, cell_size, 6001);
+  const CellGrid grid = CellGrid::make(lo, hi, edge, 6001);
+  EXPECT_LE(grid.count(), 6001);
   for (int d = 0; d < 3; ++d)
-    EXPECT_GE((hi[d] - lo[d]) / grid.n[d], cell_size) << "axis " << d;
-  for (std::size_t k = 1; k < order.size(); ++k) {
-    const Index a = grid.cell_of(c.x[order[k - 1]]), b = grid.cell_of(c.x[order[k]]);
-    ASSERT_TRUE(a < b || (a == b && order[k - 1] < order[k])) << "at " << k;
+    EXPECT_GE((hi[d] - lo[d]) / grid.n[d], edge) << "axis " << d;
+  for (const Vec3& p : c.x) {
+    const Index cell = grid.cell_of(p);
+    const std::array<Index, 3> at{cell % grid.n[0], (cell / grid.n[0]) % grid.n[1],
+                                  cell / (grid.n[0] * grid.n[1])};
+    for (int d = 0; d < 3; ++d) {
+      const double width = (hi[d] - lo[d]) / grid.n[d];
+      EXPECT_LE(lo[d] + at[d] * width, p[d] * (1 + 1e-12));
+      if (at[d] + 1 < grid.n[d]) {
+        EXPECT_LT(p[d], lo[d] + (at[d] + 1) * width * (1 + 1e-12));
+      }
+    }
   }
 }
 
-// Cell index x fastest, ties by old index, on hand-checked points.
-TEST(NeighbourSearch, CellOrderSmallCases) {
-  // Line: extent 3.8, cell size 1 → 3 cells of 1.27: cells 1, 0, 1, 0, 2.
-  const std::vector<Vec3> line{{2.5, 0, 0}, {0.1, 0, 0}, {1.7, 0, 0}, {0.2, 0, 0}, {3.9, 0, 0}};
-  EXPECT_EQ(NeighbourSearch::cell_order(line, 1.0), (std::vector<Index>{1, 3, 0, 2, 4}));
-  // Unit cube, 2 cells per axis: linear cells 2, 1, 0, 7.
-  const std::vector<Vec3> cube{{0, 1, 0}, {1, 0, 0}, {0, 0, 0}, {1, 1, 1}};
-  EXPECT_EQ(NeighbourSearch::cell_order(cube, 0.5), (std::vector<Index>{2, 1, 0, 3}));
-  EXPECT_TRUE(NeighbourSearch::cell_order(std::vector<Vec3>{}, 1.0).empty());
+// Cell index x fastest, the top face in the last cell, on hand-checked points.
+TEST(NeighbourSearch, CellGridSmallCases) {
+  // Line: extent 3.8, edge 1 → 3 cells of 1.27.
+  const CellGrid line = CellGrid::make(Vec3(0.1, 0, 0), Vec3(3.9, 0, 0), 1.0, 11);
+  EXPECT_EQ(line.count(), 3);
+  for (const auto& [x, cell] :
+       std::vector<std::pair<double, Index>>{{2.5, 1}, {0.1, 0}, {1.7, 1}, {0.2, 0}, {3.9, 2}})
+    EXPECT_EQ(line.cell_of(Vec3(x, 0, 0)), cell) << "x = " << x;
+  // Unit cube, edge 0.5 → 2 cells per axis.
+  const CellGrid cube = CellGrid::make(Vec3::Zero(), Vec3::Ones(), 0.5, 9);
+  EXPECT_EQ(cube.cell_of(Vec3(0, 1, 0)), 2);
+  EXPECT_EQ(cube.cell_of(Vec3(1, 0, 0)), 1);
+  EXPECT_EQ(cube.cell_of(Vec3(0, 0, 0)), 0);
+  EXPECT_EQ(cube.cell_of(Vec3(1, 1, 1)), 7);
 }
 
-// A list built on cell-ordered particles has the same pairs, relabelled.
+// Renumbered particles give the same pairs, relabelled, each row sorted by the new numbers.
 TEST(NeighbourSearch, ReorderedParticlesGiveRelabelledLists) {
   const Cloud c = random_cloud(2000, {1.0, 1.0, 0.5}, 17u);
   NeighbourSearch search;
   search.build(c.x, c.h, 0.0);
-  const std::vector<Index> new_to_old = NeighbourSearch::cell_order(c.x, search.cutoff());
+  const std::vector<Index> new_to_old = along_x(c);
   const Cloud sorted = permuted(c, new_to_old);
   std::vector<Index> old_to_new(c.x.size());
   for (Index k = 0; k < static_cast<Index>(new_to_old.size()); ++k)
@@ -571,29 +576,48 @@ TEST(NeighbourSearch, ReorderedParticlesGiveRelabelledLists) {
   }
 }
 
-// Rows are sorted per row when the numbering is close to cell order, by one transposition
-// otherwise: both paths give the brute force. Renumbered with build_order, then a few swaps.
-TEST(NeighbourSearch, NumberingCloseToCellOrder) {
-  const Cloud c = random_cloud(3000, {1.0, 0.7, 0.4}, 31u);
-  const double skin = 0.2 * c.h[0];
-  NeighbourSearch search;
-  search.build(c.x, c.h, skin);
-  Cloud renumbered = permuted(c, search.build_order());
-  search.build(renumbered.x, renumbered.h, skin);
-  EXPECT_TRUE(lists_equal(search.list(), brute_force(renumbered, skin)));
-  std::vector<Index> identity(3000);
-  std::iota(identity.begin(), identity.end(), 0);
-  EXPECT_EQ(search.build_order(), identity);
-
+// What a distributed rank's rows rest on: the points of a region and of its halo, numbered in
+// the whole's relative order, list each row of the region as the whole does — the same
+// neighbours in the same order, so a sum over a row runs alike — for the whole numbered along x
+// or at random, and with a few points swapped (the insertion sort's path).
+TEST(NeighbourSearch, SubsetNumberedAlikeListsRowsInTheSameOrder) {
+  const Cloud c = random_cloud(4000, {1.0, 0.5, 0.3}, 23u);
+  const double skin = 0.3 * c.h[0];
+  Cloud swapped = permuted(c, along_x(c));
   std::mt19937 rng(5u);
-  std::uniform_int_distribution<Index> pick(0, 2999);
+  std::uniform_int_distribution<Index> pick(0, 3999);
   for (int swap = 0; swap < 20; ++swap) {
     const Index a = pick(rng), b = pick(rng);
-    std::swap(renumbered.x[a], renumbered.x[b]);
-    std::swap(renumbered.h[a], renumbered.h[b]);
+    std::swap(swapped.x[a], swapped.x[b]);
+    std::swap(swapped.h[a], swapped.h[b]);
   }
-  search.build(renumbered.x, renumbered.h, skin);
-  EXPECT_TRUE(lists_equal(search.list(), brute_force(renumbered, skin)));
+  const Cloud by_x = permuted(c, along_x(c));
+  for (const Cloud* whole : {&c, &by_x, static_cast<const Cloud*>(&swapped)}) {
+    NeighbourSearch all;
+    all.build(whole->x, whole->h, skin);
+    const double reach = all.cutoff();
+    std::vector<Index> kept; // the region x < 0.4 and the points within a cutoff of it
+    std::vector<unsigned char> region;
+    for (Index i = 0; i < 4000; ++i)
+      if (whole->x[i].x() < 0.4 + reach) {
+        kept.push_back(i);
+        region.push_back(whole->x[i].x() < 0.4);
+      }
+    ASSERT_LT(kept.size(), 3000u);
+    NeighbourSearch part;
+    part.build(permuted(*whole, kept).x, permuted(*whole, kept).h, skin, {region, {}});
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      if (!region[k])
+        continue;
+      std::vector<Index> mapped;
+      for (Index j : part.list().of(static_cast<Index>(k)))
+        mapped.push_back(kept[j]);
+      const auto row = all.list().of(kept[k]);
+      ASSERT_TRUE(std::equal(row.begin(), row.end(), mapped.begin(), mapped.end()))
+          << "row " << kept[k];
+    }
+    EXPECT_TRUE(lists_equal(all.list(), brute_force(*whole, skin)));
+  }
 }
 
 // --- Degenerate inputs --------------------------------------------------------------------
@@ -671,7 +695,6 @@ TEST(NeighbourSearch, InvalidInputThrowsNamingTheParticle) {
   bad.x[4400].x() = std::numeric_limits<double>::infinity();
   EXPECT_NE(message(bad, 0.0).find("particle 4321 "), std::string::npos) << message(bad, 0.0);
   EXPECT_TRUE(search.needs_update(c.x, c.h)); // a failed build leaves no list to trust
-  EXPECT_THROW(NeighbourSearch::cell_order(bad.x, 0.1), Error);
 
   bad = c;
   bad.h[17] = -1.0;
@@ -682,7 +705,6 @@ TEST(NeighbourSearch, InvalidInputThrowsNamingTheParticle) {
   bad = c;
   bad.h.pop_back();
   EXPECT_THROW(search.build(bad.x, bad.h, 0.0), Error);
-  EXPECT_THROW(NeighbourSearch::cell_order(c.x, 0.0), Error);
 }
 
 } // namespace
