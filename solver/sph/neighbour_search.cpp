@@ -256,25 +256,25 @@ void NeighbourSearch::mark_listed(ListedRows listed) {
     return;
   listed_.assign(listed.rows.begin(), listed.rows.end());
   if (!listed.if_near.empty()) {
-    const std::vector<unsigned char> near = cells_within(listed_, 2 * search_reach);
+    cells_within(listed_, 2 * search_reach, near_);
     for (std::size_t i = 0; i < listed_.size(); ++i)
-      listed_[i] = listed_[i] || (listed.if_near[i] && near[bins_.cell[i]]);
+      listed_[i] = listed_[i] || (listed.if_near[i] && near_[bins_.cell[i]]);
   }
-  searched_ = cells_within(listed_, search_reach);
+  cells_within(listed_, search_reach, searched_);
 }
 
-// Per cell: 1 when within `cells` cells, along each axis, of the cell of a point `points` marks
-// (a box dilated along x, then y, then z).
-std::vector<unsigned char> NeighbourSearch::cells_within(std::span<const unsigned char> points,
-                                                         Index cells) const {
+// Per cell, into `near`: 1 when within `cells` cells, along each axis, of the cell of a point
+// `points` marks (a box dilated along x, then y, then z, through the dilated_ scratch).
+void NeighbourSearch::cells_within(std::span<const unsigned char> points, Index cells,
+                                   std::vector<unsigned char>& near) {
   const Index count = grid_.count();
-  std::vector<unsigned char> near(count, 0), dilated;
+  near.assign(count, 0);
   for (std::size_t i = 0; i < points.size(); ++i)
     if (points[i])
       near[bins_.cell[i]] = 1;
   const std::array<Index, 3> stride{1, grid_.n[0], grid_.n[0] * grid_.n[1]};
   for (int d = 0; d < 3; ++d) {
-    dilated.assign(count, 0);
+    dilated_.assign(count, 0);
     for (Index c = 0; c < count; ++c) {
       if (!near[c])
         continue;
@@ -282,11 +282,10 @@ std::vector<unsigned char> NeighbourSearch::cells_within(std::span<const unsigne
       const Index lo = std::max<Index>(at - cells, 0);
       const Index hi = std::min<Index>(at + cells, grid_.n[d] - 1);
       for (Index a = lo; a <= hi; ++a)
-        dilated[c + (a - at) * stride[d]] = 1;
+        dilated_[c + (a - at) * stride[d]] = 1;
     }
-    near.swap(dilated);
+    near.swap(dilated_);
   }
-  return near;
 }
 
 // Counting sort of the particles into cells, stable in the original index.

@@ -146,7 +146,8 @@ private:
 
   void bin(std::span<const Vec3> x, std::span<const double> h);
   void mark_listed(ListedRows listed);
-  std::vector<unsigned char> cells_within(std::span<const unsigned char> points, Index cells) const;
+  void cells_within(std::span<const unsigned char> points, Index cells,
+                    std::vector<unsigned char>& near);
   void fill_rows();
   void search_upper(Index c, UpperBuffer& rows);
   std::span<const Index> upper_row(Index k, int thread, int threads) const;
@@ -157,6 +158,8 @@ private:
   NeighbourList list_;
   std::vector<unsigned char> listed_;   // per point, when not all are listed: 1 if listed
   std::vector<unsigned char> searched_; // per cell, when not all are listed: within reach of one
+  std::vector<unsigned char> near_;     // per cell: within two cutoffs of a listed point (scratch)
+  std::vector<unsigned char> dilated_;  // per cell (cells_within's scratch)
   std::vector<Vec3> x_build_;
   std::vector<double> h_build_;
   double skin_ = 0;

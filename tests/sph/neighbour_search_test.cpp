@@ -328,27 +328,36 @@ TEST(NeighbourSearch, RowsListedIfNearAListedRow) {
 }
 
 // Rebuilding for a stable particle count allocates nothing (counted by the operator new above),
-// for a random numbering and one along x alike, and holds as many blocks as before.
+// for a random numbering and one along x alike, of all rows or of some (a distributed run's,
+// with rows listed when near them), and holds as many blocks as before.
 TEST(NeighbourSearch, RebuildDoesNotAllocate) {
   const Cloud c = random_cloud(6000, {1.0, 1.0, 1.0}, 5u);
   const Cloud by_x = permuted(c, along_x(c));
-  for (const Cloud* cloud : {&c, &by_x}) {
-    Cloud moved = *cloud; // the same order, every particle moved a little
-    for (std::size_t i = 0; i < moved.x.size(); ++i)
-      moved.x[i] += 1e-3 * Vec3(std::sin(1.0 * i), std::cos(2.0 * i), std::sin(3.0 * i));
-    NeighbourSearch search;
-    for (int warm_up = 0; warm_up < 3; ++warm_up) {
-      search.build(cloud->x, cloud->h, 0.0);
-      search.build(moved.x, moved.h, 0.0);
-    }
-    const long before = allocations.load(), held_before = held.load();
-    search.build(cloud->x, cloud->h, 0.0);
-    search.build(moved.x, moved.h, 0.0);
-    search.build(cloud->x, cloud->h, 0.0);
-    EXPECT_FALSE(search.needs_update(cloud->x, cloud->h));
-    EXPECT_EQ(allocations.load() - before, 0);
-    EXPECT_EQ(held.load() - held_before, 0);
+  std::vector<unsigned char> rows(6000), if_near(6000);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    rows[i] = c.x[i].x() < 0.5;
+    if_near[i] = i % 3 == 0;
   }
+  for (const NeighbourSearch::ListedRows listed :
+       {NeighbourSearch::ListedRows{}, NeighbourSearch::ListedRows{rows, if_near}})
+    for (const Cloud* cloud : {&c, &by_x}) {
+      Cloud moved = *cloud; // the same order, every particle moved a little
+      for (std::size_t i = 0; i < moved.x.size(); ++i)
+        moved.x[i] += 1e-3 * Vec3(std::sin(1.0 * i), std::cos(2.0 * i), std::sin(3.0 * i));
+      NeighbourSearch search;
+      for (int warm_up = 0; warm_up < 3; ++warm_up) {
+        search.build(cloud->x, cloud->h, 0.0, listed);
+        search.build(moved.x, moved.h, 0.0, listed);
+      }
+      const long before = allocations.load(), held_before = held.load();
+      search.build(cloud->x, cloud->h, 0.0, listed);
+      search.build(moved.x, moved.h, 0.0, listed);
+      search.build(cloud->x, cloud->h, 0.0, listed);
+      EXPECT_FALSE(search.needs_update(cloud->x, cloud->h));
+      EXPECT_EQ(allocations.load() - before, 0)
+          << (listed.rows.empty() ? "all" : "some") << " rows";
+      EXPECT_EQ(held.load() - held_before, 0);
+    }
 }
 
 // --- Lattice ------------------------------------------------------------------------------
