@@ -27,9 +27,9 @@ public:
   bool empty() const { return kernel_.empty() && surface_.empty(); }
   // Sets fc_p to the contact force on every row and adds it to f_p; sets phi_p to each row's
   // share of the contact energy. lists: changes whenever the neighbour lists are made anew
-  // (ParticleSystem::list_builds); dt: the step just
-  // taken (0 at the start). ranks: a distributed run's (this rank's rows are evaluated; the
-  // friction power and the stable step are then the ranks' total and least), null: one process.
+  // (ParticleSystem::list_builds); dt: the step just taken (0 at the start). ranks: a
+  // distributed run's (this rank's rows are evaluated; the friction power and the stable step
+  // are then the ranks' total and least), null: one process.
   // Collective when distributed.
   void apply(Particles& p, const NeighbourList& list, long long lists, const HexElements& elements,
              double dt, const ContactRanks* ranks = nullptr);
