@@ -51,10 +51,36 @@ HaloExchange::HaloExchange(std::span<const int> owner, std::span<const Index> re
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   }
-  // Tell each owner what this rank reads.
+  send_ = delivered(receive_); // each owner learns what this rank reads
+  send_buffer_.resize(n);
+  receive_buffer_.resize(n);
+}
+
+HaloExchange HaloExchange::pushed(std::vector<std::vector<Index>> sends) {
+  HaloExchange h;
+  const int n = ranks::size();
+  if (n == 1)
+    return h;
+  SPHFEM_CHECK(sends.size() == static_cast<std::size_t>(n), "halo: ", sends.size(),
+               " send lists for ", n, " ranks (internal error)");
+  sends[ranks::rank()].clear();
+  for (auto& list : sends) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  h.receive_ = delivered(sends);
+  h.send_ = std::move(sends);
+  h.send_buffer_.resize(n);
+  h.receive_buffer_.resize(n);
+  return h;
+}
+
+std::vector<std::vector<Index>>
+HaloExchange::delivered(const std::vector<std::vector<Index>>& lists) {
+  const int n = static_cast<int>(lists.size());
   std::vector<int> ask(n), asked(n);
   for (int r = 0; r < n; ++r)
-    ask[r] = static_cast<int>(receive_[r].size());
+    ask[r] = static_cast<int>(lists[r].size());
   MPI_Alltoall(ask.data(), 1, MPI_INT, asked.data(), 1, MPI_INT, MPI_COMM_WORLD);
   std::vector<int> ask_at(n, 0), asked_at(n, 0);
   for (int r = 1; r < n; ++r) {
@@ -62,15 +88,14 @@ HaloExchange::HaloExchange(std::span<const int> owner, std::span<const Index> re
     asked_at[r] = asked_at[r - 1] + asked[r - 1];
   }
   std::vector<Index> asks, askeds(static_cast<std::size_t>(asked_at[n - 1] + asked[n - 1]));
-  for (const auto& list : receive_)
+  for (const auto& list : lists)
     asks.insert(asks.end(), list.begin(), list.end());
   MPI_Alltoallv(asks.data(), ask.data(), ask_at.data(), index_type(), askeds.data(), asked.data(),
                 asked_at.data(), index_type(), MPI_COMM_WORLD);
-  send_.assign(n, {});
+  std::vector<std::vector<Index>> out(n);
   for (int r = 0; r < n; ++r)
-    send_[r].assign(askeds.begin() + asked_at[r], askeds.begin() + asked_at[r] + asked[r]);
-  send_buffer_.resize(n);
-  receive_buffer_.resize(n);
+    out[r].assign(askeds.begin() + asked_at[r], askeds.begin() + asked_at[r] + asked[r]);
+  return out;
 }
 
 void HaloExchange::transfer(std::size_t unit) {
@@ -113,6 +138,10 @@ void HaloExchange::transfer(std::size_t unit) {
 #else
 
 HaloExchange::HaloExchange(std::span<const int>, std::span<const Index>) {}
+
+HaloExchange HaloExchange::pushed(std::vector<std::vector<Index>>) {
+  return {};
+}
 
 void HaloExchange::transfer(std::size_t) {}
 

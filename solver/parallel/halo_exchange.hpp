@@ -31,6 +31,9 @@ public:
   // owner[i]: the rank owning entity i (the same on every rank); reads: the entities this rank
   // reads, in any order (those it owns are skipped). Collective: every rank calls it together.
   HaloExchange(std::span<const int> owner, std::span<const Index> reads);
+  // The other way round: sends[r] lists the entities this rank sends to rank r (its own, or any
+  // it holds current), and each rank learns what it receives. Collective.
+  static HaloExchange pushed(std::vector<std::vector<Index>> sends);
 
   // Owners' values into the read slots of every rank, for each field `for_each` visits:
   // for_each(visit) calls visit(name, field) per field (as Nodes::for_each_field does).
@@ -46,6 +49,8 @@ public:
   // nothing): after a gather that is not repeated soon.
   void release();
 
+  // What this rank receives from each rank, ascending.
+  const std::vector<std::vector<Index>>& receives() const { return receive_; }
   // Entities this rank sends and receives per refresh (all ranks together).
   long long sent() const { return count(send_); }
   long long received() const { return count(receive_); }
@@ -54,6 +59,8 @@ public:
 
 private:
   static long long count(const std::vector<std::vector<Index>>& lists);
+  // Each rank's lists[r] of entities it names to rank r, delivered: what r named to this rank.
+  static std::vector<std::vector<Index>> delivered(const std::vector<std::vector<Index>>& lists);
   // Sends send_buffer_[r] to each rank r and fills receive_buffer_[r] from it; `unit`: the bytes
   // of one entity's values (MPI counts in int: a message may hold 2³¹ − 1 entities, not only
   // 2³¹ − 1 bytes).

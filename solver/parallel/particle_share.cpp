@@ -62,16 +62,7 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
   if (!collective)
     return s;
   s.halo = HaloExchange(s.owner, s.halo_rows);
-  // The gathers' slots include the images this rank does not keep current, each from its
-  // source's owner, which does: a gathered state is the single process's in every slot. (A run
-  // refreshes the images it reads before reading them, so a restart would not need them.)
-  std::vector<int> slot_owner(total);
-  for (Index k = 0; k < total; ++k) {
-    slot_owner[k] = s.owner[row_of(k)];
-    if (k >= rows && !s.owns[k])
-      others.push_back(k);
-  }
-  s.all = HaloExchange(slot_owner, others);
+  s.all = HaloExchange(s.owner, others);
   return s;
 }
 
@@ -93,6 +84,46 @@ bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const
   add_visible_images(s, mirrors, static_cast<Index>(s.owner.size()));
   s.halo = HaloExchange(s.owner, s.halo_rows);
   return true;
+}
+
+RowBox::RowBox(std::span<const Vec3> x, std::span<const Index> own) {
+  for (const Index i : own) {
+    lo = lo.cwiseMin(x[i]);
+    hi = hi.cwiseMax(x[i]);
+  }
+}
+
+std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Index> own,
+                                                const MirrorParticles& mirrors, double margin,
+                                                double image_reach) {
+  const RowBox mine(p.x_p, own);
+  const std::array<double, 6> corners{mine.lo.x(), mine.lo.y(), mine.lo.z(),
+                                      mine.hi.x(), mine.hi.y(), mine.hi.z()};
+  const std::vector<double> all = ranks::gather_all(corners);
+  const int n = ranks::size(), me = ranks::rank();
+  std::vector<RowBox> boxes(n, RowBox({}, {}));
+  for (int r = 0; r < n; ++r) {
+    boxes[r].lo = {all[6 * r], all[6 * r + 1], all[6 * r + 2]};
+    boxes[r].hi = {all[6 * r + 3], all[6 * r + 4], all[6 * r + 5]};
+  }
+  std::vector<std::vector<Index>> sends(n);
+  for (const Index i : own) {
+    if (i >= p.rows())
+      break;
+    const std::vector<Vec3> images = mirrors.empty()
+                                         ? std::vector<Vec3>{}
+                                         : mirrors.images_of(p.x_p[i], p.group_p[i], image_reach);
+    for (int r = 0; r < n; ++r) {
+      if (r == me)
+        continue;
+      bool near = boxes[r].near(p.x_p[i], margin);
+      for (const Vec3& image : images)
+        near = near || boxes[r].near(image, margin);
+      if (near)
+        sends[r].push_back(i);
+    }
+  }
+  return sends;
 }
 
 } // namespace sphfem

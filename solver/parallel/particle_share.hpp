@@ -9,14 +9,17 @@
 //   after the material update what it changed (for_each_updated_field: density, stress, kill
 //   state and the rest that the forces read), so that no rank repeats another's material update;
 //   each carries what the owners wrote since the other (together a third of a row's bytes);
-// - `all`: every row and mirror image this rank does not own (an image is its source's owner's):
-//   their positions and smoothing lengths before a neighbour-list rebuild
-//   (Particles::for_each_listed_field: every rank then sorts all particles as one process does,
-//   lists its own rows — and the background rows near them that a coupling reads — and the new
-//   halo is refreshed whole after it), every field before a checkpoint or a new cut.
-// A rank refreshes each step only the mirror images of its visible rows (`visible`), the only
-// ones its rows read; the others are current on their source's owner.
+// - `all`: every row this rank does not own, every field, before a checkpoint or a new cut.
+// Mirror images are a rank's own: those of the rows it bins at a rebuild (below), numbered in
+// their sources' order; it refreshes each step only those of its visible rows (`visible`), the
+// only ones its rows read.
 // Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.
+//
+// A rebuild needs, on each rank, every row within reach of its own — their positions and
+// smoothing lengths only: `rows_near_ranks` names, for each rank, the rows of this rank within
+// `margin` of the other's own rows' bounding box, or with a mirror image there; the owners
+// send them (HaloExchange::pushed). That rank then bins its own rows and those, and lists its
+// own rows exactly as one process would.
 // Verified by tests/parallel/decomposition_test.cpp and tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
@@ -25,6 +28,7 @@
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/particles.hpp"
 
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -50,5 +54,23 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
 // images to the visible rows; false, and nothing changed, when no rank has rows to add.
 // Collective.
 bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows);
+
+// The bounding box of the rows `own` lists (empty: lo > hi).
+struct RowBox {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  RowBox(std::span<const Vec3> x, std::span<const Index> own);
+  // Whether x lies within `margin` of the box (along each axis).
+  bool near(const Vec3& x, double margin) const {
+    return ((x - lo).array() >= -margin).all() && ((hi - x).array() >= -margin).all();
+  }
+};
+
+// Per rank: the rows among `own` (this rank's, ascending) within `margin` of that rank's own
+// rows' box, or with a mirror image there (images within `image_reach` of a plane). Empty for
+// this rank. Collective: the ranks' boxes are exchanged.
+std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Index> own,
+                                                const MirrorParticles& mirrors, double margin,
+                                                double image_reach);
 
 } // namespace sphfem

@@ -96,7 +96,12 @@ std::vector<Vec3> MirrorParticles::images_of(const Vec3& x, int group, double re
   return images;
 }
 
-void MirrorParticles::select(Particles& p, double reach) {
+void MirrorParticles::select(Particles& p, std::span<const Vec3> x, double reach,
+                             std::span<const unsigned char> among) {
+  SPHFEM_CHECK(x.size() >= static_cast<std::size_t>(p.rows()) &&
+                   (among.empty() || among.size() >= static_cast<std::size_t>(p.rows())),
+               "mirror images: positions of ", x.size(), " rows for ", p.rows(),
+               " (internal error)");
   source_.clear();
   image_.clear();
   // Real particles first, then background particles (the FE side of an interface near the
@@ -104,7 +109,9 @@ void MirrorParticles::select(Particles& p, double reach) {
   for (Index i = 0; i < p.rows(); ++i) {
     if (i == p.size())
       p.mirrored_real = size();
-    for (const Image& image : maps_of(p.x_p[i], p.group_p[i], reach)) {
+    if (!among.empty() && !among[i])
+      continue;
+    for (const Image& image : maps_of(x[i], p.group_p[i], reach)) {
       source_.push_back(i);
       image_.push_back(image);
     }
@@ -119,7 +126,7 @@ void MirrorParticles::refresh_motion(Particles& p, Index first,
   for (Index m = 0; m < slots.count; ++m) {
     const Index g = slots[m], k = g - first, i = source_[k];
     const Mat3& R = image_[k].R;
-    p.x_p[g] = R * p.x_p[i] + image_[k].t;
+    p.x_p[g] = image_of(k, p.x_p[i]);
     p.x0_p[g] = R * p.x0_p[i] + image_[k].t;
     p.v_p[g] = R * p.v_p[i];
     p.u_p[g] = R * p.u_p[i];

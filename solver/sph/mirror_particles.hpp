@@ -10,9 +10,9 @@
 #pragma once
 
 #include "solver/io/case.hpp"
-#include "solver/io/state_archive.hpp"
 #include "solver/state/particles.hpp"
 
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -39,9 +39,14 @@ public:
   // The row image k is made from (current index).
   Index source(Index k) const { return source_[k]; }
 
-  // Chooses the images of the real and background particles lying within `reach` of their
-  // group's planes (images of real particles first; sets p.mirrored_real).
-  void select(Particles& p, double reach);
+  // Chooses the images of the real and background particles at positions x (one per row of
+  // p.rows(): the current ones, or a neighbour build's) lying within `reach` of their group's
+  // planes, among the rows `among` marks (all when empty: a distributed run's rank makes the
+  // images of the rows it bins); images of real particles first; sets p.mirrored_real.
+  void select(Particles& p, std::span<const Vec3> x, double reach,
+              std::span<const unsigned char> among = {});
+  // Image k of a source at x.
+  Vec3 image_of(Index k, const Vec3& x) const { return image_[k].R * x + image_[k].t; }
   // Position, velocity, mass, density, h and identity of each image (slots from `first`), or of
   // the image slots `only` lists (a distributed run's visible rows: images of sources the rank
   // keeps current; its rows read no other).
@@ -49,11 +54,6 @@ public:
   // Density, h, stress, gradient correction, artificial stress and last force of each image (or
   // of those `only` lists).
   void refresh_stress(Particles& p, Index first, const std::vector<Index>* only = nullptr) const;
-  // Checkpoint: the images chosen at the last selection.
-  void persist(StateArchive& a) {
-    a.array("mirrors/source", source_);
-    a.array("mirrors/image", image_);
-  }
 
 private:
   struct Image {

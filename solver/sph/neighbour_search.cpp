@@ -58,8 +58,9 @@ struct Box {
   Vec3 hi = Vec3::Constant(-infinity);
 };
 
-// Bounding box of x; throws naming the first particle with a non-finite coordinate.
-Box bounding_box(std::span<const Vec3> x) {
+// Bounding box of the points of x that `binned` marks (all when empty); throws naming the first
+// of them with a non-finite coordinate.
+Box bounding_box(std::span<const Vec3> x, std::span<const unsigned char> binned) {
   const Index n = static_cast<Index>(x.size());
   double lx = infinity, ly = infinity, lz = infinity;
   double ux = -infinity, uy = -infinity, uz = -infinity;
@@ -69,6 +70,8 @@ Box bounding_box(std::span<const Vec3> x) {
     reduction(max                                                                                  \
               : ux, uy, uz) if (n > parallel_min_items)
   for (Index i = 0; i < n; ++i) {
+    if (!binned.empty() && !binned[i])
+      continue;
     const Vec3& p = x[i];
     if (!p.allFinite())
       first_bad = std::min(first_bad, i);
@@ -85,8 +88,9 @@ Box bounding_box(std::span<const Vec3> x) {
   return {Vec3(lx, ly, lz), Vec3(ux, uy, uz)};
 }
 
-// Largest h; throws naming the first particle whose h is negative or not finite.
-double max_smoothing_length(std::span<const double> h) {
+// Largest h of the points `binned` marks (all when empty); throws naming the first of them
+// whose h is negative or not finite.
+double max_smoothing_length(std::span<const double> h, std::span<const unsigned char> binned) {
   const Index n = static_cast<Index>(h.size());
   double h_max = 0;
   Index first_bad = n;
@@ -95,6 +99,8 @@ double max_smoothing_length(std::span<const double> h) {
     reduction(max                                                                                  \
               : h_max) if (n > parallel_min_items)
   for (Index i = 0; i < n; ++i) {
+    if (!binned.empty() && !binned[i])
+      continue;
     if (!(h[i] >= 0 && h[i] < infinity))
       first_bad = std::min(first_bad, i);
     h_max = std::max(h_max, h[i]);
@@ -206,7 +212,7 @@ void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, 
                             ListedRows listed) {
   SPHFEM_CHECK(x.size() == h.size(), "neighbour search: ", x.size(), " positions but ", h.size(),
                " smoothing lengths");
-  for (const auto flags : {listed.rows, listed.if_near})
+  for (const auto flags : {listed.rows, listed.if_near, listed.binned})
     SPHFEM_CHECK(flags.empty() || flags.size() == x.size(), "neighbour search: ", flags.size(),
                  " row flags for ", x.size(), " points");
   SPHFEM_CHECK(skin >= 0 && skin < infinity, "neighbour search: invalid skin ", skin);
@@ -214,11 +220,15 @@ void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, 
                "neighbour search: too many particles (", x.size(), ")");
   built_ = false;
   skin_ = skin;
-  cutoff_ = 2 * max_smoothing_length(h) + skin;
-  const Box box = bounding_box(x);
+  cutoff_ = 2 * max_smoothing_length(h, listed.binned) + skin;
+  const Box box = bounding_box(x, listed.binned);
+  const auto binned =
+      listed.binned.empty()
+          ? x.size()
+          : static_cast<std::size_t>(std::count(listed.binned.begin(), listed.binned.end(), 1));
   grid_ = CellGrid::make(box.lo, box.hi, cutoff_ / search_reach * (1 + cell_margin),
-                         max_cells_for(x.size()));
-  bin(x, h);
+                         max_cells_for(binned));
+  bin(x, h, listed.binned);
   mark_listed(listed);
   fill_rows();
   x_build_.assign(x.begin(), x.end());
@@ -226,22 +236,16 @@ void NeighbourSearch::build(std::span<const Vec3> x, std::span<const double> h, 
   built_ = true;
 }
 
-void NeighbourSearch::relist(ListedRows listed) {
-  SPHFEM_CHECK(built_, "neighbour search: relisting before a build (internal error)");
+void NeighbourSearch::free_lists() {
   list_ = NeighbourList();
   half_ = HalfLists();
-  const std::vector<Vec3> x = x_build_;
-  const std::vector<double> h = h_build_;
-  build(x, h, skin_, listed);
 }
 
-void NeighbourSearch::persist(StateArchive& a, ListedRows listed) {
+void NeighbourSearch::persist(StateArchive& a) {
   a.array("neighbours/x_build", x_build_);
   a.array("neighbours/h_build", h_build_);
   a.value("neighbours/skin", skin_);
   a.value("neighbours/built", built_);
-  if (a.reading() && built_)
-    relist(listed);
 }
 
 // The rows listed and the cells whose half rows their lists need: those within search_reach
@@ -257,8 +261,10 @@ void NeighbourSearch::mark_listed(ListedRows listed) {
   listed_.assign(listed.rows.begin(), listed.rows.end());
   if (!listed.if_near.empty()) {
     cells_within(listed_, 2 * search_reach, near_);
+    const Index cells = grid_.count(); // an unbinned point's cell
     for (std::size_t i = 0; i < listed_.size(); ++i)
-      listed_[i] = listed_[i] || (listed.if_near[i] && near_[bins_.cell[i]]);
+      listed_[i] =
+          listed_[i] || (listed.if_near[i] && bins_.cell[i] < cells && near_[bins_.cell[i]]);
   }
   cells_within(listed_, search_reach, searched_);
 }
@@ -270,7 +276,7 @@ void NeighbourSearch::cells_within(std::span<const unsigned char> points, Index 
   const Index count = grid_.count();
   near.assign(count, 0);
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (points[i])
+    if (points[i] && bins_.cell[i] < count)
       near[bins_.cell[i]] = 1;
   const std::array<Index, 3> stride{1, grid_.n[0], grid_.n[0] * grid_.n[1]};
   for (int d = 0; d < 3; ++d) {
@@ -288,18 +294,22 @@ void NeighbourSearch::cells_within(std::span<const unsigned char> points, Index 
   }
 }
 
-// Counting sort of the particles into cells, stable in the original index.
-void NeighbourSearch::bin(std::span<const Vec3> x, std::span<const double> h) {
+// Counting sort of the particles into cells, stable in the original index. Points not binned
+// go to a last bucket past the grid's cells, which is never searched.
+void NeighbourSearch::bin(std::span<const Vec3> x, std::span<const double> h,
+                          std::span<const unsigned char> binned) {
   const Index n = static_cast<Index>(x.size());
+  const Index cells = grid_.count();
   bins_.cell.resize(n);
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
   for (Index i = 0; i < n; ++i)
-    bins_.cell[i] = grid_.cell_of(x[i]);
-  sort_by_cell(bins_.cell, grid_.count(), bins_.cell_start, bins_.order);
+    bins_.cell[i] = binned.empty() || binned[i] ? grid_.cell_of(x[i]) : cells;
+  sort_by_cell(bins_.cell, cells + 1, bins_.cell_start, bins_.order);
   const std::vector<Index>& order = bins_.order;
+  const Index in_cells = bins_.cell_start[cells];
   bins_.points.resize(n);
 #pragma omp parallel for schedule(static) if (n > parallel_min_items)
-  for (Index k = 0; k < n; ++k) {
+  for (Index k = 0; k < in_cells; ++k) {
     const Vec3& p = x[order[k]];
     bins_.points[k] = {p.x(), p.y(), p.z(), h[order[k]]};
   }
@@ -383,6 +393,7 @@ void NeighbourSearch::fill_rows() {
   const Index cells = grid_.count();
   const std::vector<Index>& start = bins_.cell_start;
   const std::vector<Index>& order = bins_.order;
+  const Index in_cells = start[cells]; // the binned points; those after them have empty rows
   const bool all = listed_.empty();
   const auto wanted = [&](Index m) { return all || listed_[order[m]] != 0; };
   const std::int64_t stencil_back =
@@ -404,7 +415,8 @@ void NeighbourSearch::fill_rows() {
     const auto first_cell = [&](int share) {
       if (share == threads)
         return cells;
-      const Index target = static_cast<Index>(static_cast<std::int64_t>(n) * share / threads);
+      const Index target =
+          static_cast<Index>(static_cast<std::int64_t>(in_cells) * share / threads);
       return static_cast<Index>(std::lower_bound(start.begin(), start.begin() + cells, target) -
                                 start.begin());
     };
@@ -413,7 +425,7 @@ void NeighbourSearch::fill_rows() {
     const Index k_back = start[static_cast<Index>(std::max<std::int64_t>(c0 - stencil_back, 0))];
     half_.first[t] = k0;
     if (t == threads - 1)
-      half_.first[threads] = n;
+      half_.first[threads] = in_cells;
     half_.buffers[t].used = 0;
     for (Index c = c0; c < c1; ++c)
       search_upper(c, half_.buffers[t]);
@@ -441,6 +453,8 @@ void NeighbourSearch::fill_rows() {
 
 #pragma omp single
     {
+      for (Index m = in_cells; m < n; ++m)
+        list_.offsets[order[m] + 1] = 0;
       std::int64_t total = 0;
       for (Index i = 1; i <= n; ++i) {
         total += list_.offsets[i];

@@ -78,17 +78,17 @@ public:
   // `if_near` marks when within two cutoffs of one of them (a coupling reading the lists of
   // rows near a distributed run's own: the surface contact's face corners). Listed rows are
   // those of a build of all, the others empty. The search visits only the cells within reach of
-  // a listed point; every point is still binned (the rebuild condition is of all). "Within two
-  // cutoffs" is decided by cells: some rows farther are listed too.
+  // a listed point. "Within two cutoffs" is decided by cells: some rows farther are listed too.
+  // `binned` (empty: all) marks the points binned at all: the others are in no list and their
+  // positions are not read (a distributed run's rank bins the rows near its own; the caller
+  // makes sure that every point within reach of a listed row is binned).
   struct ListedRows {
     std::span<const unsigned char> rows;
     std::span<const unsigned char> if_near;
+    std::span<const unsigned char> binned;
   };
   void build(std::span<const Vec3> x, std::span<const double> h, double skin,
              ListedRows listed = {});
-  // Lists the rows `listed` gives from the last build's positions and smoothing lengths (so
-  // those rows are the last build's), and frees what longer lists held.
-  void relist(ListedRows listed);
 
   // True when the list may be missing a pair (see the rebuild condition above), when the
   // particle count changed, before the first build, and for non-finite x or h.
@@ -98,6 +98,7 @@ public:
   // marks (all when empty); pairs of them (one per rank) merged; whether a pair asks for a
   // rebuild (also when infinite: a non-finite state).
   bool built_for(std::span<const Vec3> x, std::span<const double> h) const;
+  bool built() const { return built_; }
   std::array<double, 2> largest_excursions(std::span<const Vec3> x, std::span<const double> h,
                                            std::span<const unsigned char> counted = {}) const;
   static std::array<double, 2> merge_excursions(std::span<const double> pairs);
@@ -109,10 +110,22 @@ public:
   double cutoff() const { return cutoff_; }
   const CellGrid& grid() const { return grid_; }
 
-  // Checkpoint: the build-time positions, smoothing lengths and skin; reading rebuilds from them
-  // (the rows `listed` marks), which gives the very lists and grid of that build (a build is
-  // deterministic).
-  void persist(StateArchive& a, ListedRows listed = {});
+  // The build-time positions and smoothing lengths (the rebuild condition's reference): for a
+  // distributed run's gather (each owner's rows were binned at the build) and to list other rows
+  // of that build (a new cut, a checkpoint read).
+  template <class Visit> void for_each_build_field(Visit visit) {
+    visit("x_build", x_build_);
+    visit("h_build", h_build_);
+  }
+  std::span<const Vec3> build_positions() const { return x_build_; }
+  std::span<const double> build_smoothing_lengths() const { return h_build_; }
+
+  // Checkpoint: the build-time positions, smoothing lengths and skin, and whether built. After
+  // reading, the caller builds the lists from them (a build is deterministic: the very lists of
+  // that build).
+  void persist(StateArchive& a);
+  // Frees the lists' memory (before a build that lists fewer rows than the last).
+  void free_lists();
 
 private:
   struct Point {
@@ -144,7 +157,8 @@ private:
   // on the benchmark's lattice, r = 2 builds fastest (r = 1 and r = 3: ~1.2× slower).
   static constexpr Index search_reach = 2;
 
-  void bin(std::span<const Vec3> x, std::span<const double> h);
+  void bin(std::span<const Vec3> x, std::span<const double> h,
+           std::span<const unsigned char> binned);
   void mark_listed(ListedRows listed);
   void cells_within(std::span<const unsigned char> points, Index cells,
                     std::vector<unsigned char>& near);

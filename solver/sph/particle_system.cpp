@@ -49,28 +49,106 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
   forces(0.0);
 }
 
-void ParticleSystem::place_mirrors() {
+// Twice the largest real particle's h of `h` (a distributed run's rows are current on their
+// owner: the largest over the ranks, unless `whole`), plus the skin: how near a plane a row gets
+// mirror images.
+double ParticleSystem::mirror_reach(std::span<const double> h, bool whole) const {
+  double largest_h = 0;
+  if (share_ && !whole) {
+    for (const Index i : own_real_rows())
+      largest_h = std::max(largest_h, h[i]);
+    largest_h = ranks::max(largest_h);
+  } else {
+    for (Index i = 0; i < particles_.size(); ++i)
+      largest_h = std::max(largest_h, h[i]);
+  }
+  return 2.0 * largest_h + skin_;
+}
+
+// The images of the rows at x (those binned_ marks, else all) within reach of a plane; the
+// arrays resized for them, their state made from their sources' now.
+void ParticleSystem::place_mirrors(std::span<const Vec3> x, double reach) {
   if (mirror_.empty())
     return;
   auto& p = particles_;
-  double largest_h = 0;
-  for (Index i = 0; i < p.size(); ++i)
-    largest_h = std::max(largest_h, p.h_p[i]);
-  mirror_.select(p, 2.0 * largest_h + skin_);
+  mirror_.select(p, x, reach, binned_);
   const Index total = p.rows() + mirror_.size();
   p.for_each_field([total](const char*, auto& field) { field.resize(total); });
+  if (!binned_.empty())
+    binned_.resize(total, 1); // the images of binned rows
   mirror_.refresh_motion(p, p.rows());
   mirror_.refresh_stress(p, p.rows());
 }
 
-// The rows keep the model's order (see the header): the lists' rows are sorted by it.
+// The rows keep the model's order (see the header): the lists' rows are sorted by it. A
+// distributed run's rank bins its own rows and those near them (receive_neighbourhood).
 void ParticleSystem::rebuild() {
   auto& p = particles_;
-  place_mirrors();
+  if (share_)
+    receive_neighbourhood();
+  place_mirrors(p.x_p, mirror_.empty() ? 0.0 : mirror_reach(p.h_p, false));
   mark_listed();
   search_.build(p.x_p, p.h_p, skin_, listed());
   ++rebuilds_;
   ++list_builds_;
+}
+
+// The positions and smoothing lengths of the rows that a rebuild's lists of this rank's rows can
+// hold, from their owners: the rows within a cutoff C = 2 max h + skin of its own rows' box, or
+// with a mirror image there; marks them and its own rows in binned_. With the surface contact,
+// the lists of some background rows too (coupling/contact.hpp): a slave evaluated here lies
+// within C of a corner of a face with an own corner, its other faces' corners within C of it,
+// and a face spans less than 2C (at most 2.5 h of its corners: the contact's stretch allowance),
+// so every corner it reads lies within 4C of an own row. near_if_listed_ marks the background
+// rows within 4C of the box, and the rows within 5C are binned: their lists are whole here.
+void ParticleSystem::receive_neighbourhood() {
+  auto& p = particles_;
+  const Index n = p.size(), rows = p.rows();
+  double largest_h = 0;
+  for (const Index i : share_->own)
+    largest_h = std::max(largest_h, p.h_p[i]);
+  const double cutoff = 2 * ranks::max(largest_h) + skin_;
+  const double margin = (attached_rows_listed_if_near_ ? 5 : 1) * cutoff;
+  HaloExchange near =
+      HaloExchange::pushed(rows_near_ranks(p, share_->own, mirror_, margin, cutoff));
+  near.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
+  halo_bytes_ += near.bytes_sent();
+  binned_.assign(rows, 0);
+  for (const Index i : share_->own)
+    if (i < rows)
+      binned_[i] = 1;
+  for (const auto& from : near.receives())
+    for (const Index i : from)
+      binned_[i] = 1;
+  near_if_listed_.clear();
+  if (attached_rows_listed_if_near_) {
+    const RowBox own(p.x_p, share_->own);
+    near_if_listed_.assign(rows, 0);
+    for (Index k = n; k < rows; ++k)
+      near_if_listed_[k] = binned_[k] && own.near(p.x_p[k], 4 * cutoff);
+  }
+}
+
+// The last build's lists for the rows this rank now lists (a new cut, a checkpoint read): from
+// that build's positions and smoothing lengths, whole on every rank then (gathered or read),
+// with the mirror images every row had at it.
+void ParticleSystem::relist() {
+  auto& p = particles_;
+  const Index rows = p.rows();
+  std::vector<Vec3> x(search_.build_positions().begin(), search_.build_positions().begin() + rows);
+  std::vector<double> h(search_.build_smoothing_lengths().begin(),
+                        search_.build_smoothing_lengths().begin() + rows);
+  binned_.clear();
+  near_if_listed_.clear();
+  p.for_each_field([rows](const char*, auto& field) { field.resize(rows); });
+  place_mirrors(x, mirror_.empty() ? 0.0 : mirror_reach(h, true));
+  for (Index k = 0; k < mirror_.size(); ++k) {
+    x.push_back(mirror_.image_of(k, x[mirror_.source(k)]));
+    h.push_back(h[mirror_.source(k)]);
+  }
+  mark_listed();
+  search_.free_lists();
+  search_.build(x, h, skin_, listed());
 }
 
 void ParticleSystem::mark_listed() {
@@ -88,7 +166,10 @@ void ParticleSystem::mark_listed() {
     listed_[k] = owner_of_background_[k - n] == rank;
   if (attached_rows_listed_if_near_) {
     listed_if_near_.assign(p.total(), 0);
-    std::fill(listed_if_near_.begin() + n, listed_if_near_.begin() + rows, 1);
+    if (near_if_listed_.empty())
+      std::fill(listed_if_near_.begin() + n, listed_if_near_.begin() + rows, 1);
+    else
+      std::copy(near_if_listed_.begin(), near_if_listed_.end(), listed_if_near_.begin());
   }
 }
 
@@ -115,17 +196,16 @@ void ParticleSystem::persist(StateArchive& a) {
   a.value("particles/excluded", p.excluded);
   p.for_each_field(
       [&a](const char* name, auto& field) { a.array(std::string("particles/") + name, field); });
-  if (a.reading())
-    mark_listed();
-  search_.persist(a, listed());
+  search_.persist(a);
   list_builds_ += a.reading();
-  mirror_.persist(a);
   a.array("particles/index_of_id", index_of_id_);
   a.value("particles/skin", skin_);
   a.value("particles/dt_stable", dt_stable_);
   a.value("particles/rebuilds", rebuilds_);
+  if (a.reading() && search_.built())
+    relist();
   if (a.reading() && share_)
-    share(); // the checkpoint's order and list (collective: every rank reads the checkpoint)
+    share(); // the checkpoint's list (collective: every rank reads the checkpoint)
 }
 
 void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
@@ -135,8 +215,7 @@ void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> o
   attached_rows_listed_if_near_ = attached_rows_listed_if_near;
   if (empty())
     return;
-  mark_listed();
-  search_.relist(listed()); // the last build's lists of the rows this rank now steps
+  relist(); // the last build's lists of the rows this rank now steps
   ++list_builds_;
   share();
 }
@@ -162,9 +241,13 @@ void ParticleSystem::read_also(std::span<const Index> rows) {
   mirror_.refresh_stress(p, p.rows(), visible_rows());
 }
 
+// With the last build's positions: a new cut or a restart lists its rows from them.
 void ParticleSystem::gather_state() {
   if (share_)
-    share_->all.refresh_by_field([this](auto visit) { particles_.for_each_field(visit); });
+    share_->all.refresh_by_field([this](auto visit) {
+      particles_.for_each_field(visit);
+      search_.for_each_build_field(visit);
+    });
 }
 
 std::span<const unsigned char> ParticleSystem::owned_rows() const {
@@ -242,11 +325,6 @@ void ParticleSystem::update(double dt) {
   }
   mirror_.refresh_motion(p, p.rows(), visible_rows());
   if (rebuild_due()) {
-    if (share_) { // every rank sorts all particles as one process does, and lists its own
-      const long long sent = share_->all.bytes_sent();
-      share_->all.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
-      halo_bytes_ += share_->all.bytes_sent() - sent;
-    }
     rebuild();
     if (share_) {
       share();

@@ -4,8 +4,9 @@
 // positions. The particles keep model.h5's order (id_p and index_of() map between the two, for
 // a checkpoint written before 2026-12-07, when rows were renumbered by cell at each rebuild):
 // every neighbour row, so every sum over one, runs in that order, which is the same for any
-// subset of the rows numbered alike — a distributed rank's. Mirror images follow in the order
-// of their sources, background rows in their nodes' order. With coupling (METHOD.md §4) the
+// subset of the rows numbered alike — a distributed rank's, which bins at a rebuild only its own
+// rows and those near them (their owners send their positions). Mirror images follow in the
+// order of their sources, background rows in their nodes' order. With coupling (METHOD.md §4) the
 // arrays continue with rows another phase attaches — the background particles of FE nodes,
 // which the step (time/simulation.cpp) fills before each particle phase and whose forces it
 // takes back after it, with the contact between bodies (coupling/). The particle phase itself
@@ -51,7 +52,9 @@ public:
   // its candidates from its faces' corners).
   void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                   bool attached_rows_listed_if_near);
-  // Every rank's particles into this rank's arrays (before output); nothing on one process.
+  // Every rank's particles (but the mirror images, which are each rank's own) and the last
+  // neighbour build's positions into this rank's arrays (before a checkpoint or a new cut);
+  // nothing on one process.
   void gather_state();
   // Per row: 1 for the rows this rank steps (all on one process: empty).
   std::span<const unsigned char> owned_rows() const;
@@ -74,8 +77,9 @@ public:
   // Changes whenever the rows this rank refreshes are chosen anew (each neighbour list, each
   // checkpoint read): a coupling's reads are then to be added again.
   long long shares() const { return shares_; }
-  // Bytes this rank has sent to refresh other ranks' halos and, before each neighbour-list
-  // rebuild, the positions of every row (not counting the gathers for checkpoints and new cuts).
+  // Bytes this rank has sent to refresh other ranks' halos and, at each neighbour-list rebuild,
+  // the positions of its rows near other ranks' (not counting the gathers for checkpoints and
+  // new cuts).
   long long halo_bytes() const { return halo_bytes_ + (share_ ? share_->halo.bytes_sent() : 0); }
   // v += Δt_v f/m and the heating of the artificial terms over the same interval.
   void kick(double dt_v);
@@ -104,20 +108,23 @@ public:
   // Entries in the lists that the pair loops visit (of the particles and background particles;
   // mirror images gather nothing), over all ranks (collective when distributed).
   long long pair_loop_entries() const;
-  // Checkpoint: every particle field, the neighbour search, the mirror images and the counters
-  // that decide the next rebuild.
+  // Checkpoint: every particle field, the neighbour search's last build and the counters that
+  // decide the next rebuild; reading lists the rows from that build (with its mirror images).
   void persist(StateArchive& a);
 
 private:
   void rebuild();
+  void receive_neighbourhood();
+  void relist();
   void mark_listed(); // the rows this rank lists (all on one process: none marked)
-  NeighbourSearch::ListedRows listed() const { return {listed_, listed_if_near_}; }
+  NeighbourSearch::ListedRows listed() const { return {listed_, listed_if_near_, binned_}; }
   void share(); // the share of the current neighbour list
   bool rebuild_due() const;
   void forces(double dt);
-  void place_mirrors();
+  double mirror_reach(std::span<const double> h, bool whole) const;
+  void place_mirrors(std::span<const Vec3> x, double reach);
   // A distributed run's rows and images that its own rows read (null on one process: all). The
-  // other images are refreshed at each rebuild only, whose search bins every image.
+  // other images are refreshed at each rebuild only.
   const std::vector<Index>* visible_rows() const { return share_ ? &share_->visible : nullptr; }
 
   SphSpec spec_;
@@ -135,6 +142,8 @@ private:
   bool attached_rows_listed_if_near_ = false;
   std::vector<unsigned char> listed_;         // per row: 1 when this rank lists it; empty: all
   std::vector<unsigned char> listed_if_near_; // per row: 1 when listed near a listed row
+  std::vector<unsigned char> binned_;         // per row: 1 when this rank bins it; empty: all
+  std::vector<unsigned char> near_if_listed_; // rows that may be listed_if_near_; empty: all
   std::unique_ptr<ParticleShare> share_;      // this rank's share of the current list
   long long halo_bytes_ = 0;                  // sent through the shares of earlier lists
   long long shares_ = 0;                      // shares made so far

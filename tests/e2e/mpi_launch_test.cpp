@@ -288,8 +288,8 @@ TEST(MpiLaunch, CrushedQuarterOfParticlesOnTwoAndThreeRanksIsTheOneProcessRun) {
 TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThreeAndOnOne) {
   // The same checkpoint time of the crushed quarter reached on one process and on two ranks;
   // each continued (on one process, on three ranks) to the end writes the same history. The
-  // checkpoint holds the particles in the order of its last neighbour list, which the three
-  // ranks take over.
+  // checkpoint holds the particles and the positions of its last neighbour build, from which
+  // the three ranks list their rows (with the mirror images that build had).
   const sphfem::test::Scratch scratch("mpi_restart");
   const std::string case_file =
       write_case(scratch.dir, "crushed_quarter", crushed_quarter).string();
@@ -300,8 +300,8 @@ TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThreeAndOnOne) {
                  two_on_one = scratch.dir / "two_on_one";
   ASSERT_EQ(sphfem_on(0, "run " + case_file + " -o " + one.string() + half, scratch.dir).code, 0);
   ASSERT_EQ(sphfem_on(2, "run " + case_file + " -o " + two.string() + half, scratch.dir).code, 0);
-  // The ranks' checkpoint continued on one process too (each rank refreshes only the mirror
-  // images of the rows it sees; the checkpoint holds them all).
+  // The ranks' checkpoint continued on one process too (each rank had the mirror images of the
+  // rows it binned only; reading makes those of every row anew).
   fs::copy(two, two_on_one, fs::copy_options::recursive);
   for (const auto& [out, ranks] :
        {std::pair{one, 0}, std::pair{two, 3}, std::pair{two_on_one, 0}}) {

@@ -456,7 +456,7 @@ TEST(Decomposition, ARanksVisibleRowsHoldTheImagesOfItsVisibleRowsAndNoOthers) {
   std::iota(p.id_p.begin(), p.id_p.end(), Index{0});
   const MirrorParticles::Plane plane{0, Vec3(0, 0, -0.5 * mm), Vec3(0, 0, -1)};
   MirrorParticles mirrors(std::vector{plane});
-  mirrors.select(p, 2.4 * mm);
+  mirrors.select(p, p.x_p, 2.4 * mm);
   ASSERT_EQ(mirrors.size(), 64);
   p.for_each_field([&](const char*, auto& field) { field.resize(p.real + mirrors.size()); });
   mirrors.refresh_motion(p, p.rows());

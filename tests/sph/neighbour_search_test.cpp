@@ -257,11 +257,11 @@ TEST(NeighbourSearch, SomeRowsListedEqualBruteForceAndTheOthersAreEmpty) {
     NeighbourSearch one, two;
     {
       const ThreadCount serial(1);
-      one.build(cloud->x, cloud->h, skin, {listed, {}});
+      one.build(cloud->x, cloud->h, skin, {listed, {}, {}});
     }
     {
       const ThreadCount parallel(2);
-      two.build(cloud->x, cloud->h, skin, {listed, {}});
+      two.build(cloud->x, cloud->h, skin, {listed, {}, {}});
     }
     EXPECT_TRUE(lists_equal(one.list(), expected));
     EXPECT_TRUE(one.list().offsets == two.list().offsets);
@@ -275,7 +275,8 @@ TEST(NeighbourSearch, SomeRowsListedEqualBruteForceAndTheOthersAreEmpty) {
     EXPECT_FALSE(one.needs_update(cloud->x, cloud->h));
 
     const std::size_t whole_entries = whole.list().pair_count();
-    whole.relist({listed, {}});
+    whole.free_lists();
+    whole.build(cloud->x, cloud->h, skin, {listed, {}, {}});
     EXPECT_TRUE(lists_equal(whole.list(), expected));
     EXPECT_LT(whole.list().neighbours.capacity(), whole_entries / 2);
   }
@@ -294,7 +295,7 @@ TEST(NeighbourSearch, RowsListedIfNearAListedRow) {
     if_near[i] = i % 3 == 0;
   }
   NeighbourSearch search;
-  search.build(c.x, c.h, skin, {listed, if_near});
+  search.build(c.x, c.h, skin, {listed, if_near, {}});
   const double reach = 2 * search.cutoff();
   std::vector<unsigned char> compared(n);
   for (Index i = 0; i < n; ++i)
@@ -339,7 +340,7 @@ TEST(NeighbourSearch, RebuildDoesNotAllocate) {
     if_near[i] = i % 3 == 0;
   }
   for (const NeighbourSearch::ListedRows listed :
-       {NeighbourSearch::ListedRows{}, NeighbourSearch::ListedRows{rows, if_near}})
+       {NeighbourSearch::ListedRows{}, NeighbourSearch::ListedRows{rows, if_near, {}}})
     for (const Cloud* cloud : {&c, &by_x}) {
       Cloud moved = *cloud; // the same order, every particle moved a little
       for (std::size_t i = 0; i < moved.x.size(); ++i)
@@ -614,7 +615,7 @@ TEST(NeighbourSearch, SubsetNumberedAlikeListsRowsInTheSameOrder) {
       }
     ASSERT_LT(kept.size(), 3000u);
     NeighbourSearch part;
-    part.build(permuted(*whole, kept).x, permuted(*whole, kept).h, skin, {region, {}});
+    part.build(permuted(*whole, kept).x, permuted(*whole, kept).h, skin, {region, {}, {}});
     for (std::size_t k = 0; k < kept.size(); ++k) {
       if (!region[k])
         continue;
@@ -625,7 +626,51 @@ TEST(NeighbourSearch, SubsetNumberedAlikeListsRowsInTheSameOrder) {
       ASSERT_TRUE(std::equal(row.begin(), row.end(), mapped.begin(), mapped.end()))
           << "row " << kept[k];
     }
-    EXPECT_TRUE(lists_equal(all.list(), brute_force(*whole, skin)));
+  }
+}
+
+// A build binning some points only (a distributed rank's rows and those near them, in the
+// whole's numbering) lists its rows as a build of all does, and never reads the other points:
+// here they are poisoned — half with non-finite positions and negative h, which a build reading
+// them rejects, half moved among the listed rows, which a build binning them would list.
+TEST(NeighbourSearch, BinningTheRowsNearTheListedOnesListsThemAsTheWhole) {
+  const Cloud c = random_cloud(4000, {1.0, 0.5, 0.3}, 13u);
+  const double skin = 0.3 * c.h[0];
+  const Cloud by_x = permuted(c, along_x(c));
+  for (const Cloud* whole : {&c, &by_x}) {
+    NeighbourSearch all;
+    all.build(whole->x, whole->h, skin);
+    const double reach = all.cutoff();
+    Cloud poisoned = *whole;
+    std::vector<unsigned char> listed(4000), binned(4000);
+    Index binned_count = 0;
+    for (Index i = 0; i < 4000; ++i) {
+      listed[i] = whole->x[i].x() > 0.7;
+      binned[i] = whole->x[i].x() > 0.7 - reach;
+      binned_count += binned[i];
+      if (!binned[i] && i % 2 == 0) {
+        poisoned.x[i] = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+        poisoned.h[i] = -1;
+      } else if (!binned[i]) {
+        poisoned.x[i] = Vec3(0.85, 0.25, 0.15) + 1e-6 * static_cast<double>(i) * Vec3::Ones();
+      }
+    }
+    ASSERT_LT(binned_count, 2000);
+    const std::vector<unsigned char> every(4000, 1);
+    for (const bool if_near : {false, true}) { // rows marked if near: none binned is listed
+      NeighbourSearch part;
+      part.build(poisoned.x, poisoned.h, skin,
+                 {listed, if_near ? std::span(every) : std::span<const unsigned char>(), binned});
+      EXPECT_LE(part.grid().count(), 2 * binned_count + 1);
+      for (Index i = 0; i < 4000; ++i) {
+        if (if_near && binned[i] && !listed[i])
+          continue; // listed or not, as the cells decide
+        const auto expected = listed[i] ? all.list().of(i) : std::span<const Index>();
+        const auto row = part.list().of(i);
+        ASSERT_TRUE(std::equal(row.begin(), row.end(), expected.begin(), expected.end()))
+            << "row " << i;
+      }
+    }
   }
 }
 
