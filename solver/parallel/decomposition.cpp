@@ -361,10 +361,16 @@ Decomposition decompose(const Model& m, const EntityCosts& costs, int parts) {
 
 namespace {
 
-int part_in(const std::vector<Decomposition::Region>& regions, const Vec3& x, int current) {
+int part_in(const std::vector<Decomposition::Region>& regions, const Vec3& x, int current,
+            double slack = 0) {
   const auto parts = static_cast<int>(regions.size());
-  if (current >= 0 && current < parts && regions[static_cast<std::size_t>(current)].holds(x))
-    return current;
+  if (current >= 0 && current < parts) {
+    Decomposition::Region near = regions[static_cast<std::size_t>(current)];
+    near.lo.array() -= slack;
+    near.hi.array() += slack;
+    if (near.holds(x))
+      return current;
+  }
   for (std::size_t q = 0; q < regions.size(); ++q)
     if (regions[q].holds(x))
       return static_cast<int>(q);
@@ -378,8 +384,8 @@ int Decomposition::part_at(const Vec3& x, int current) const {
   return part_in(regions, x, current);
 }
 
-int Decomposition::particle_part_at(const Vec3& x, int current) const {
-  return part_in(particle_regions, x, current);
+int Decomposition::particle_part_at(const Vec3& x, int current, double slack) const {
+  return part_in(particle_regions, x, current, slack);
 }
 
 double live_particle_cost(int neighbours) {

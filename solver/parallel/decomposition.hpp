@@ -62,8 +62,9 @@ struct Decomposition {
   // The owner of an entity at x: `current` while its region still holds x (RCB splits the
   // entities lying on a cut between the two sides), else the lowest part whose region does.
   int part_at(const Vec3& x, int current = -1) const;
-  // The same for a particle, by particle_regions.
-  int particle_part_at(const Vec3& x, int current = -1) const;
+  // The same for a particle, by particle_regions; `current` also while x lies within `slack`
+  // of its region (a particle just across a cut stays).
+  int particle_part_at(const Vec3& x, int current = -1, double slack = 0) const;
 
   // A tied particle (model id) and its node (interface ties, METHOD.md §4.2) move as one: the
   // node joins the particle's part, which then also computes the elements around it, so that

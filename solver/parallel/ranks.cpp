@@ -80,6 +80,22 @@ std::vector<double> gather_all(std::span<const double> values) {
   return all;
 }
 
+std::vector<Index> gather_all_varying(std::span<const Index> values) {
+  const int n = size();
+  if (n == 1)
+    return {values.begin(), values.end()};
+  const int count = static_cast<int>(values.size());
+  std::vector<int> counts(n), at(n, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  for (int r = 1; r < n; ++r)
+    at[r] = at[r - 1] + counts[r - 1];
+  std::vector<Index> all(static_cast<std::size_t>(at[n - 1] + counts[n - 1]));
+  const MPI_Datatype type = sizeof(Index) == 8 ? MPI_INT64_T : MPI_INT32_T;
+  MPI_Allgatherv(values.data(), count, type, all.data(), counts.data(), at.data(), type,
+                 MPI_COMM_WORLD);
+  return all;
+}
+
 void sum_exactly(std::span<ExactSum> sums) {
   if (size() == 1 || sums.empty())
     return;
@@ -134,6 +150,9 @@ std::vector<double> sum_in_rank_order(std::span<const double> values) {
   return {values.begin(), values.end()};
 }
 std::vector<double> gather_all(std::span<const double> values) {
+  return {values.begin(), values.end()};
+}
+std::vector<Index> gather_all_varying(std::span<const Index> values) {
   return {values.begin(), values.end()};
 }
 void sum_exactly(std::span<ExactSum>) {}

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "solver/core/exact_sum.hpp"
+#include "solver/core/types.hpp"
 
 #include <span>
 #include <vector>
@@ -31,6 +32,8 @@ std::vector<double> sum_in_rank_order(std::span<const double> values);
 void sum_exactly(std::span<ExactSum> sums);
 // Every rank's `values` (each the same length), concatenated in rank order.
 std::vector<double> gather_all(std::span<const double> values);
+// Every rank's `values` (of any length), concatenated in rank order.
+std::vector<Index> gather_all_varying(std::span<const Index> values);
 // Waits for every rank.
 void barrier();
 // Ends every rank of the job with `code` (after an error one rank met alone mid-run: the others

@@ -104,29 +104,65 @@ void ParticleSystem::rebuild() {
 void ParticleSystem::receive_neighbourhood() {
   auto& p = particles_;
   const Index n = p.size(), rows = p.rows();
+  const int rank = ranks::rank();
+  std::vector<Index> own; // now (particles may have migrated since the share)
+  for (Index k = 0; k < rows; ++k)
+    if ((k < n ? owner_of_id_[p.id_p[k]] : owner_of_background_[k - n]) == rank)
+      own.push_back(k);
   double largest_h = 0;
-  for (const Index i : share_->own)
+  for (const Index i : own)
     largest_h = std::max(largest_h, p.h_p[i]);
   const double cutoff = 2 * ranks::max(largest_h) + skin_;
   const double margin = (attached_rows_listed_if_near_ ? 5 : 1) * cutoff;
-  HaloExchange near =
-      HaloExchange::pushed(rows_near_ranks(p, share_->own, mirror_, margin, cutoff));
+  HaloExchange near = HaloExchange::pushed(rows_near_ranks(p, own, mirror_, margin, cutoff));
   near.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
   halo_bytes_ += near.bytes_sent();
   binned_.assign(rows, 0);
-  for (const Index i : share_->own)
-    if (i < rows)
-      binned_[i] = 1;
+  for (const Index i : own)
+    binned_[i] = 1;
   for (const auto& from : near.receives())
     for (const Index i : from)
       binned_[i] = 1;
   near_if_listed_.clear();
   if (attached_rows_listed_if_near_) {
-    const RowBox own(p.x_p, share_->own);
+    const RowBox box(p.x_p, own);
     near_if_listed_.assign(rows, 0);
     for (Index k = n; k < rows; ++k)
-      near_if_listed_[k] = binned_[k] && own.near(p.x_p[k], 4 * cutoff);
+      near_if_listed_[k] = binned_[k] && box.near(p.x_p[k], 4 * cutoff);
   }
+}
+
+// Real particles more than a list cutoff outside this rank's region go to the rank whose region
+// holds them (pinned ones stay): their whole rows, then every rank learns their new owners. The
+// slack keeps a particle that merely crossed a cut, which moves no work and would cross back and
+// forth. Collective.
+void ParticleSystem::migrate() {
+  if (!migration_.owner_at)
+    return;
+  auto& p = particles_;
+  const int rank = ranks::rank();
+  const double slack = search_.cutoff();
+  std::vector<std::vector<Index>> moves(static_cast<std::size_t>(ranks::size()));
+  std::vector<Index> moved; // model id, new rank
+  for (const Index i : own_real_rows()) {
+    const Index id = p.id_p[i];
+    if ((!migration_.pinned.empty() && migration_.pinned[id]) || !p.x_p[i].allFinite())
+      continue; // a non-finite state stops the run at the rebuild, on its rank
+    const int to = migration_.owner_at(p.x_p[i], rank, slack);
+    if (to == rank)
+      continue;
+    moves[to].push_back(i);
+    moved.insert(moved.end(), {id, to});
+  }
+  const std::vector<Index> all = ranks::gather_all_varying(moved);
+  if (all.empty())
+    return;
+  HaloExchange rows = HaloExchange::pushed(std::move(moves));
+  rows.refresh_by_field([&p](auto visit) { p.for_each_field(visit); });
+  halo_bytes_ += rows.bytes_sent();
+  for (std::size_t k = 0; k < all.size(); k += 2)
+    owner_of_id_[all[k]] = static_cast<int>(all[k + 1]);
+  migrations_ += static_cast<long long>(all.size() / 2);
 }
 
 // The last build's lists for the rows this rank now lists (a new cut, a checkpoint read): from
@@ -209,8 +245,9 @@ void ParticleSystem::persist(StateArchive& a) {
 }
 
 void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
-                                bool attached_rows_listed_if_near) {
+                                bool attached_rows_listed_if_near, Migration migration) {
   owner_of_id_ = std::move(owner_of_id);
+  migration_ = std::move(migration);
   owner_of_background_ = std::move(owner_of_background);
   attached_rows_listed_if_near_ = attached_rows_listed_if_near;
   if (empty())
@@ -325,6 +362,8 @@ void ParticleSystem::update(double dt) {
   }
   mirror_.refresh_motion(p, p.rows(), visible_rows());
   if (rebuild_due()) {
+    if (share_)
+      migrate();
     rebuild();
     if (share_) {
       share();

@@ -43,15 +43,26 @@ public:
                  Index attached = 0, const AttachRows& attach = {});
 
   bool empty() const { return particles_.total() == 0; }
+  // How a distributed run's real particles change rank between cuts: at each neighbour-list
+  // rebuild, one that left its rank's region by more than a list cutoff goes to the rank
+  // `owner_at` names (the one whose region holds x; `current` while x lies within `slack` of
+  // its own), unless `pinned` (by model id: tied to a node, which keeps its rank). Without
+  // owner_at, particles keep their rank until the next cut.
+  struct Migration {
+    std::function<int(const Vec3& x, int current, double slack)> owner_at;
+    std::vector<unsigned char> pinned;
+  };
   // A distributed run (issue 28): from now on this rank steps the particles owner_of_id gives
-  // it (by model id) and computes what their forces read (parallel/particle_share.hpp).
-  // Collective, as are update(), gather_state() and reading a checkpoint after it.
-  // owner_of_background: the rank of each attached row. The neighbour lists are then of the
-  // rows this rank steps only, and, when `attached_rows_listed_if_near`, of the attached rows
-  // within two list cutoffs of one of them (a coupling reads those: the surface contact finds
-  // its candidates from its faces' corners).
+  // it (by model id; they migrate as `migration` says) and computes what their forces read
+  // (parallel/particle_share.hpp). Collective, as are update(), gather_state() and reading a
+  // checkpoint after it. owner_of_background: the rank of each attached row. The neighbour
+  // lists are then of the rows this rank steps only, and, when `attached_rows_listed_if_near`,
+  // of the attached rows within two list cutoffs of one of them (a coupling reads those: the
+  // surface contact finds its candidates from its faces' corners).
   void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
-                  bool attached_rows_listed_if_near);
+                  bool attached_rows_listed_if_near, Migration migration = {});
+  // Particles that changed rank since the start (over all ranks).
+  long long migrations() const { return migrations_; }
   // Every rank's particles (but the mirror images, which are each rank's own) and the last
   // neighbour build's positions into this rank's arrays (before a checkpoint or a new cut);
   // nothing on one process.
@@ -78,8 +89,8 @@ public:
   // checkpoint read): a coupling's reads are then to be added again.
   long long shares() const { return shares_; }
   // Bytes this rank has sent to refresh other ranks' halos and, at each neighbour-list rebuild,
-  // the positions of its rows near other ranks' (not counting the gathers for checkpoints and
-  // new cuts).
+  // the rows that migrate and the positions of its rows near other ranks' (not counting the
+  // gathers for checkpoints and new cuts).
   long long halo_bytes() const { return halo_bytes_ + (share_ ? share_->halo.bytes_sent() : 0); }
   // v += Δt_v f/m and the heating of the artificial terms over the same interval.
   void kick(double dt_v);
@@ -114,6 +125,7 @@ public:
 
 private:
   void rebuild();
+  void migrate();
   void receive_neighbourhood();
   void relist();
   void mark_listed(); // the rows this rank lists (all on one process: none marked)
@@ -139,6 +151,8 @@ private:
   long long list_builds_ = 0;
   std::vector<int> owner_of_id_;         // a distributed run's owners by model id; else empty
   std::vector<int> owner_of_background_; // and of the attached rows
+  Migration migration_;
+  long long migrations_ = 0;
   bool attached_rows_listed_if_near_ = false;
   std::vector<unsigned char> listed_;         // per row: 1 when this rank lists it; empty: all
   std::vector<unsigned char> listed_if_near_; // per row: 1 when listed near a listed row

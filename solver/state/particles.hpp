@@ -159,10 +159,9 @@ struct Particles {
     visit("phi_p", phi_p);
   }
 
-  // What a distributed run's neighbour-list rebuild reads of every row, each rank binning all
-  // particles as one process does and listing its own (parallel/particle_share.hpp): where the
-  // rows are and how far they reach. The rows a rank reads after the rebuild are then refreshed
-  // whole.
+  // What a distributed run's neighbour-list rebuild reads of the rows near a rank's own, which
+  // their owners send (parallel/particle_share.hpp): where the rows are and how far they reach.
+  // The rows a rank reads after the rebuild are then refreshed whole.
   template <class Visit> void for_each_listed_field(Visit visit) {
     visit("x_p", x_p);
     visit("h_p", h_p);

@@ -412,13 +412,14 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
   if (decomposition) {
     // What the ranks sent each other per step, per entity: the halos, the element forces, the
-    // background particles and the positions before each rebuild (the gathers for checkpoints
-    // and new cuts not counted).
+    // background particles, and at each rebuild the migrating particles and the positions of
+    // the rows near each rank's (the gathers for checkpoints and new cuts not counted).
     const double sent = ranks::sum_in_rank_order(std::array{double(sim.halo_bytes())})[0];
     const double entity_steps = double(particles + elements) * double(sim.steps() - first_step);
     summary["ranks"] = ranks::size();
     summary["halo_bytes_per_entity_step"] = entity_steps > 0 ? sent / entity_steps : 0.0;
     summary["rebalances"] = rebalances;
+    summary["migrations"] = sim.particle_system().migrations();
     // Each rank's halo over what it owns, as the partition census counts it, on the last share.
     const Simulation::HaloShare share = sim.halo_share();
     const std::vector<double> shares = ranks::gather_all(std::array{share.halo, share.own});

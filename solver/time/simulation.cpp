@@ -92,7 +92,8 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   reference_state();
   if (subdomain_)
     particles_.distribute(decomposition_.part_p, decomposition_.part_b,
-                          contact_.reads_lists_of_nearby_background_rows());
+                          contact_.reads_lists_of_nearby_background_rows(),
+                          migration(decomposition_));
 
   const std::vector<Index>* computed = subdomain_ ? &subdomain_->elements : nullptr;
   dt_elements_ =
@@ -128,6 +129,21 @@ void Simulation::reference_state() {
       e.point_e[s] = MaterialPoint::initial(materials_[e.material_e[k]]);
 }
 
+// Particles follow the particles' regions of the cut between cuts; tied ones stay with their
+// nodes' rank.
+ParticleSystem::Migration Simulation::migration(const Decomposition& d) const {
+  Decomposition regions; // the regions alone
+  regions.parts = d.parts;
+  regions.particle_regions = d.particle_regions;
+  std::vector<unsigned char> pinned(d.part_p.size(), 0);
+  for (Index k = 0; k < ties_.size(); ++k)
+    pinned[ties_.particle_id(k)] = 1;
+  return {[regions](const Vec3& x, int current, double slack) {
+            return regions.particle_part_at(x, current, slack);
+          },
+          std::move(pinned)};
+}
+
 Decomposition Simulation::tied(Decomposition d) const {
   for (Index k = 0; k < ties_.size(); ++k)
     d.tie(ties_.particle_id(k), ties_.node(k));
@@ -141,7 +157,8 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   const std::unique_ptr<Subdomain> before = std::move(subdomain_);
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
   hold_element_state(before.get());
-  particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows());
+  particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows(),
+                        migration(d));
   decomposition_ = std::move(d);
 }
 

@@ -172,6 +172,7 @@ private:
   Decomposition tied(Decomposition d) const;
   // This rank's share of a new cut `d`, tied. Collective.
   void take_share(Decomposition d, const Model& model);
+  ParticleSystem::Migration migration(const Decomposition& d) const;
   // The elements' reference state (t = 0) in the slots of this rank's share (all on one
   // process). The background particles' first fill has read V_e, S_e and p_e whole; they are
   // cut to the share here.

@@ -6,8 +6,9 @@
 // surface contact of particles against hexahedra), two slabs of hexahedra with unlike meshes
 // pressed face to face (surface contact both ways, across the ranks' cuts), a Johnson–Cook bar
 // pulled until its elements erode, a quarter block of particles crushed on a fixed face across
-// two symmetry planes until most of its particles are killed, that block's checkpoint written on
-// 2 ranks continued on 3, and the first 30 µs of the coarse Børvik shot; the halo a run's ranks
+// two symmetry planes until most of its particles are killed (cut anew as it runs, and, never
+// cut anew, its particles changing rank), that block's checkpoint written on 2 ranks continued
+// on 3, and the first 30 µs of the coarse Børvik shot; the halo a run's ranks
 // receive is what the partition census counts. Their frames are one
 // piece per rank that the post tool reads as the single process's frames. The commands that do
 // not share their work are refused on several ranks before anything is written.
@@ -134,12 +135,17 @@ fs::path write_case(const fs::path& dir, const std::string& name, const char* te
 // Runs `case_file` on one process and on 2 and 3 ranks; each writes the same history, bit for
 // bit, and the same summary (but timing and what only a distributed run reports). The ranks do
 // not gather their state for it: the history's sums are exact sums of each rank's own entities.
-// Returns the single run's summary; `rebalances`, when given, receives how often the runs of 2 and
-// 3 ranks shared their work anew.
+// Returns the single run's summary; `shares`, when given, receives how often the runs of 2 and
+// 3 ranks shared their work anew (rebalances) and how many particles changed rank between
+// (migrations).
+struct Shares {
+  std::vector<int> rebalances;
+  std::vector<long long> migrations;
+};
 nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
                                                const std::string& name,
                                                const std::string& keys = "",
-                                               std::vector<int>* rebalances = nullptr) {
+                                               Shares* shares = nullptr) {
   const sphfem::test::Scratch scratch(name);
   const auto plain = sphfem_on(
       0, "run " + case_file + " -o " + (scratch.dir / "one").string() + quiet + keys, scratch.dir);
@@ -157,11 +163,14 @@ nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
     auto summary = sphfem::test::summary_without_timing(out);
     EXPECT_EQ(summary["ranks"], ranks);
     EXPECT_GT(summary["halo_bytes_per_entity_step"].get<double>(), 0.0);
-    if (rebalances != nullptr)
-      rebalances->push_back(summary["rebalances"].get<int>());
+    if (shares != nullptr) {
+      shares->rebalances.push_back(summary["rebalances"].get<int>());
+      shares->migrations.push_back(summary["migrations"].get<long long>());
+    }
     summary.erase("ranks");
     summary.erase("halo_bytes_per_entity_step");
     summary.erase("rebalances");
+    summary.erase("migrations");
     // Every rank reads a halo from the others.
     const double mean = summary["halo_fraction"]["mean"], largest = summary["halo_fraction"]["max"];
     EXPECT_GT(mean, 0.0);
@@ -263,13 +272,13 @@ TEST(MpiLaunch, SlabsInSurfaceContactOnTwoAndThreeRanksAreTheOneProcessRun) {
   // Shared anew as they run (a threshold low enough to do so on 3 ranks; 2 share the slabs
   // evenly): each new cut changes the rows a rank lists, and its contact candidates are found
   // again from them.
-  std::vector<int> rebalances;
+  Shares shares;
   const auto one = expect_ranks_repeat_one_process(case_file.string(), "mpi_pressed_slabs",
-                                                   " --rebalance 1.001", &rebalances);
+                                                   " --rebalance 1.001", &shares);
   // They met: each slab has lost a quarter of its 100 m/s or more.
   EXPECT_GT(one["bodies"]["upper"]["com_velocity"][2].get<double>(), -75.0);
-  ASSERT_EQ(rebalances.size(), 2u);
-  EXPECT_GT(rebalances[1], 0) << "3 ranks";
+  ASSERT_EQ(shares.rebalances.size(), 2u);
+  EXPECT_GT(shares.rebalances[1], 0) << "3 ranks";
 }
 
 TEST(MpiLaunch, CrushedQuarterOfParticlesOnTwoAndThreeRanksIsTheOneProcessRun) {
@@ -277,12 +286,26 @@ TEST(MpiLaunch, CrushedQuarterOfParticlesOnTwoAndThreeRanksIsTheOneProcessRun) {
   // As the particles are killed their work leaves the ranks holding them: the ranks share it
   // anew (a threshold low enough to do so several times) and stay the one process's run.
   const fs::path case_file = write_case(scratch.dir, "crushed_quarter", crushed_quarter);
-  std::vector<int> rebalances;
+  Shares shares;
   const auto one = expect_ranks_repeat_one_process(case_file.string(), "mpi_crushed_quarter",
-                                                   " --rebalance 1.02", &rebalances);
+                                                   " --rebalance 1.02", &shares);
   EXPECT_GT(one["bodies"]["block"]["killed_particles"].get<int>(), 100); // the test kills
-  ASSERT_EQ(rebalances.size(), 2u);
-  EXPECT_GT(rebalances[1], 0) << "3 ranks";
+  ASSERT_EQ(shares.rebalances.size(), 2u);
+  EXPECT_GT(shares.rebalances[1], 0) << "3 ranks";
+}
+
+TEST(MpiLaunch, CrushedQuarterWhoseParticlesChangeRankIsTheOneProcessRun) {
+  const sphfem::test::Scratch scratch("mpi_migrating_quarter_case");
+  // Never cut anew: the block's upper particles, crushed down into the lower ranks' regions,
+  // change rank at the neighbour-list rebuilds, and the run stays the one process's.
+  const fs::path case_file = write_case(scratch.dir, "crushed_quarter", crushed_quarter);
+  Shares shares;
+  expect_ranks_repeat_one_process(case_file.string(), "mpi_migrating_quarter",
+                                  " --rebalance 0 --set time.end=8e-6", &shares);
+  ASSERT_EQ(shares.migrations.size(), 2u);
+  EXPECT_EQ(shares.rebalances, (std::vector<int>{0, 0}));
+  EXPECT_GT(shares.migrations[0], 50) << "2 ranks";
+  EXPECT_GT(shares.migrations[1], 50) << "3 ranks";
 }
 
 TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThreeAndOnOne) {
