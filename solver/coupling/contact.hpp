@@ -40,7 +40,7 @@ public:
   // does not step: the surface contact finds its candidates from its faces' corners. A rank
   // evaluates a slave that is its own or near a face with an own corner; the slave's candidate
   // faces are those with a corner listing it, so it reads the lists of the corners within two
-  // list cutoffs of its own rows.
+  // list cutoffs and a face's span of its own rows (ParticleSystem lists those within four).
   bool reads_lists_of_nearby_background_rows() const { return !surface_.empty(); }
 
   // Penalty energy stored at the last evaluation, J: Σ phi_p over `rows` (a distributed run: the
