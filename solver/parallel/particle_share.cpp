@@ -94,11 +94,10 @@ RowBox::RowBox(std::span<const Vec3> x, std::span<const Index> own) {
 }
 
 std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Index> own,
-                                                const MirrorParticles& mirrors, double margin,
-                                                double image_reach) {
-  const RowBox mine(p.x_p, own);
-  const std::array<double, 6> corners{mine.lo.x(), mine.lo.y(), mine.lo.z(),
-                                      mine.hi.x(), mine.hi.y(), mine.hi.z()};
+                                                const RowBox& box, const MirrorParticles& mirrors,
+                                                double margin, double image_reach) {
+  const std::array<double, 6> corners{box.lo.x(), box.lo.y(), box.lo.z(),
+                                      box.hi.x(), box.hi.y(), box.hi.z()};
   const std::vector<double> all = ranks::gather_all(corners);
   const int n = ranks::size(), me = ranks::rank();
   std::vector<RowBox> boxes(n, RowBox({}, {}));

@@ -66,11 +66,11 @@ struct RowBox {
   }
 };
 
-// Per rank: the rows among `own` (this rank's, ascending) within `margin` of that rank's own
-// rows' box, or with a mirror image there (images within `image_reach` of a plane). Empty for
-// this rank. Collective: the ranks' boxes are exchanged.
+// Per rank: the rows among `own` (this rank's, ascending; `box` theirs) within `margin` of that
+// rank's own rows' box, or with a mirror image there (images within `image_reach` of a plane).
+// Empty for this rank. Collective: the ranks' boxes are exchanged.
 std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Index> own,
-                                                const MirrorParticles& mirrors, double margin,
-                                                double image_reach);
+                                                const RowBox& box, const MirrorParticles& mirrors,
+                                                double margin, double image_reach);
 
 } // namespace sphfem

@@ -114,7 +114,8 @@ void ParticleSystem::receive_neighbourhood() {
     largest_h = std::max(largest_h, p.h_p[i]);
   const double cutoff = 2 * ranks::max(largest_h) + skin_;
   const double margin = (attached_rows_listed_if_near_ ? 5 : 1) * cutoff;
-  HaloExchange near = HaloExchange::pushed(rows_near_ranks(p, own, mirror_, margin, cutoff));
+  const RowBox box(p.x_p, own);
+  HaloExchange near = HaloExchange::pushed(rows_near_ranks(p, own, box, mirror_, margin, cutoff));
   near.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
   halo_bytes_ += near.bytes_sent();
   binned_.assign(rows, 0);
@@ -125,7 +126,6 @@ void ParticleSystem::receive_neighbourhood() {
       binned_[i] = 1;
   near_if_listed_.clear();
   if (attached_rows_listed_if_near_) {
-    const RowBox box(p.x_p, own);
     near_if_listed_.assign(rows, 0);
     for (Index k = n; k < rows; ++k)
       near_if_listed_[k] = binned_[k] && box.near(p.x_p[k], 4 * cutoff);
