@@ -7,7 +7,8 @@
 // pressed face to face (surface contact both ways, across the ranks' cuts), a Johnson–Cook bar
 // pulled until its elements erode, a quarter block of particles crushed on a fixed face across
 // two symmetry planes until most of its particles are killed (cut anew as it runs, and, never
-// cut anew, its particles changing rank), that block's checkpoint written on 2 ranks continued
+// cut anew, its particles changing rank), a struck pellet flying alone across the cuts (it
+// changes rank with its whole state), that block's checkpoint written on 2 ranks continued
 // on 3, and the first 30 µs of the coarse Børvik shot; the halo a run's ranks
 // receive is what the partition census counts. Their frames are one
 // piece per rank that the post tool reads as the single process's frames. The commands that do
@@ -124,6 +125,35 @@ bodies:
     velocity: [0, 0, -100]
 contact:
   - {bodies: [lower, upper], model: surface}
+)";
+
+// A column of particles at rest beside a pellet that a hammer strikes (surface contact): the
+// pellet leaves along the column at ≈ 540 m/s, ringing, 4 mm from the column (beyond the list
+// cutoff, so in no other rank's halo), and crosses the ranks' cuts along z.
+const char* passing_pellet = R"(
+name: passing_pellet
+time: {end: 2.5e-5, output_interval: 1.0e-5, history_interval: 5.0e-7}
+materials:
+  steel: {model: elastic, density: 7850, youngs_modulus: 200.0e9, poisson_ratio: 0.3}
+bodies:
+  column:
+    method: sph
+    geometry: {box: {min: [0, 0, 0], max: [0.002, 0.002, 0.02]}}
+    spacing: 0.0005
+    material: steel
+  hammer:
+    method: sph
+    geometry: {box: {min: [0.006, 0, 0.0], max: [0.0075, 0.0015, 0.0015]}}
+    spacing: 0.0005
+    material: steel
+    velocity: [0, 0, 600.0]
+  pellet:
+    method: sph
+    geometry: {box: {min: [0.006, 0, 0.0017], max: [0.0075, 0.0015, 0.0032]}}
+    spacing: 0.0005
+    material: steel
+contact:
+  - {bodies: [hammer, pellet], model: surface}
 )";
 
 fs::path write_case(const fs::path& dir, const std::string& name, const char* text) {
@@ -306,6 +336,22 @@ TEST(MpiLaunch, CrushedQuarterWhoseParticlesChangeRankIsTheOneProcessRun) {
   EXPECT_EQ(shares.rebalances, (std::vector<int>{0, 0}));
   EXPECT_GT(shares.migrations[0], 50) << "2 ranks";
   EXPECT_GT(shares.migrations[1], 50) << "3 ranks";
+}
+
+TEST(MpiLaunch, APelletFlyingAloneChangesRankWithItsWholeState) {
+  const sphfem::test::Scratch scratch("mpi_passing_pellet_case");
+  // Never cut anew: the pellet (27 particles) goes to the next rank's region, where no rank
+  // read it before, once at 2 ranks and twice at 3. Its new owner steps it from the state its
+  // old one sends: its stress and velocities ring from the blow, so a move of positions alone
+  // would not be the one process's run.
+  const fs::path case_file = write_case(scratch.dir, "passing_pellet", passing_pellet);
+  Shares shares;
+  const auto one = expect_ranks_repeat_one_process(case_file.string(), "mpi_passing_pellet",
+                                                   " --rebalance 0", &shares);
+  EXPECT_GT(one["bodies"]["pellet"]["com_velocity"][2].get<double>(), 500.0); // it was struck
+  EXPECT_GT(one["bodies"]["pellet"]["internal_energy"].get<double>(), 0.0);   // and rings
+  EXPECT_EQ(shares.rebalances, (std::vector<int>{0, 0}));
+  EXPECT_EQ(shares.migrations, (std::vector<long long>{27, 54}));
 }
 
 TEST(MpiLaunch, ACheckpointOfTwoRanksContinuesOnThreeAndOnOne) {
