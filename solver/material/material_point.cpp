@@ -74,6 +74,16 @@ double equivalent_stress(const Mat3& S) {
   return std::sqrt(1.5 * S.squaredNorm());
 }
 
+bool yielding(const Material& m, const Mat3& S, const MaterialPoint& point) {
+  if (point.failed || !m.strength)
+    return false;
+  // At Δp = 0 the rate term is its static value whatever the step. A point returned onto the
+  // surface without rate hardening lies on it to the return's tolerance, hence the margin.
+  constexpr double margin = 1e-6;
+  const ReturnPoint at = return_point(*m.strength, point, 1.0);
+  return equivalent_stress(S) >= (1.0 - margin) * damaged_flow_stress(*m.strength, at, 0.0).stress;
+}
+
 double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, double rho,
                     double& pressure, Mat3& S, MaterialPoint& point, double band_width) {
   if (point.failed) {

@@ -45,6 +45,12 @@ static_assert(sizeof(MaterialPoint) == 40, "MaterialPoint has padding: its bytes
 double update_point(const Material& m, const Mat3& D, const Mat3& W, double dt, double rho,
                     double& pressure, Mat3& S, MaterialPoint& point, double band_width);
 
+// Whether the point's next update enters the radial return if its stress does not change: an
+// intact point of a material with strength whose equivalent stress is at least its static
+// flow stress (1 − D) σ_Y(r, 0, T), the test update_point makes on its trial stress. A yielding
+// point's update costs ≈ 1.6 × an elastic one's (solver/time/cost_estimate.hpp).
+bool yielding(const Material& m, const Mat3& S, const MaterialPoint& point);
+
 // The von Mises equivalent stress √(3/2 S:S) of a deviator S, Pa.
 double equivalent_stress(const Mat3& S);
 

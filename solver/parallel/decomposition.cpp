@@ -394,16 +394,22 @@ double live_particle_cost(int neighbours) {
 
 EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbours_p,
                           std::span<const unsigned char> live_p,
-                          std::span<const unsigned char> live_e) {
+                          std::span<const unsigned char> live_e,
+                          std::span<const unsigned char> yielding_p,
+                          std::span<const unsigned char> yielding_e) {
   const std::size_t np = costs.particle.size(), ne = costs.element.size();
-  if (neighbours_p.size() != np || live_p.size() != np || live_e.size() != ne)
+  if (neighbours_p.size() != np || live_p.size() != np || live_e.size() != ne ||
+      (!yielding_p.empty() && yielding_p.size() != np) ||
+      (!yielding_e.empty() && yielding_e.size() != ne))
     throw Error("decomposition: the state's particles or elements are not the decomposition's");
+  const auto yields = [](std::span<const unsigned char> flags, std::size_t k) {
+    return !flags.empty() && flags[k] ? StepCost::yielding_point : 0.0;
+  };
   EntityCosts now = costs;
   for (std::size_t i = 0; i < np; ++i)
-    now.particle[i] = live_p[i] ? live_particle_cost(neighbours_p[i]) : 0.0;
+    now.particle[i] = live_p[i] ? live_particle_cost(neighbours_p[i]) + yields(yielding_p, i) : 0.0;
   for (std::size_t e = 0; e < ne; ++e)
-    if (!live_e[e])
-      now.element[e] = 0;
+    now.element[e] = live_e[e] ? costs.element[e] + yields(yielding_e, e) : 0.0;
   return now;
 }
 
@@ -422,11 +428,12 @@ PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs) {
   return c;
 }
 
-std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
-                               std::span<const int> neighbours_p,
-                               std::span<const unsigned char> live_p,
-                               std::span<const unsigned char> live_e) {
-  PhaseCosts c = phase_costs(d, current_costs(costs, neighbours_p, live_p, live_e));
+std::vector<double>
+part_costs(const Decomposition& d, const EntityCosts& costs, std::span<const int> neighbours_p,
+           std::span<const unsigned char> live_p, std::span<const unsigned char> live_e,
+           std::span<const unsigned char> yielding_p, std::span<const unsigned char> yielding_e) {
+  PhaseCosts c =
+      phase_costs(d, current_costs(costs, neighbours_p, live_p, live_e, yielding_p, yielding_e));
   for (std::size_t q = 0; q < c.particle.size(); ++q)
     c.particle[q] += c.element[q];
   return c.particle;

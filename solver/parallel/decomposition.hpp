@@ -2,11 +2,11 @@
 // bisection (Zoltan's RCB) of the particles, and another of the hexahedra (at their centroids),
 // each entity weighted by its measured cost per step (solver/time/cost_estimate.hpp's StepCost:
 // a particle costs StepCost::particle plus StepCost::entry per neighbour-list entry; an element
-// StepCost::element plus its share of the nodes). Two cuts, because the step has two phases
-// separated by exchanges (the elements', then the particles'): one cut of both kinds together
-// balanced their sum, and each rank idled through the phase it had little of
-// (docs/scaling.md). Elements and their nodes go together: a node belongs to the
-// lowest part among the elements that hold it, and is "shared" when elements of several parts
+// StepCost::element plus its share of the nodes; a yielding one, StepCost::yielding_point more).
+// Two cuts, because the step has two phases separated by exchanges (the elements', then the
+// particles'): one cut of both kinds together balanced their sum, and each rank idled through the
+// phase it had little of (docs/scaling.md). Elements and their nodes go together: a node belongs to
+// the lowest part among the elements that hold it, and is "shared" when elements of several parts
 // hold it (its forces and masses are then summed across those parts, METHOD.md §3). Background
 // particles (§4.1) are filled from their node by the node's part but cost in the particle phase
 // (their pair loops): they are cut with the particles, at their node's position.
@@ -86,19 +86,25 @@ double live_particle_cost(int neighbours);
 
 // Each entity's cost per step at a later state of the run: a live particle costs
 // StepCost::particle + StepCost::entry × its current neighbour count, a live element its cost in
-// `costs`, a background particle its cost in `costs`; killed particles and eroded elements cost
-// nothing. Spans indexed as the model's particles and elements; throws sphfem::Error when a size
-// differs.
+// `costs`, each plus StepCost::yielding_point when `yielding_p` / `yielding_e` marks it (its
+// material point yields: the return costs ≈ 60% of an elastic element's step; empty: none
+// yields); a background particle costs its cost in `costs`; killed particles and eroded elements
+// cost nothing. Spans indexed as the model's particles and elements; throws sphfem::Error when a
+// size differs.
 EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbours_p,
                           std::span<const unsigned char> live_p,
-                          std::span<const unsigned char> live_e);
+                          std::span<const unsigned char> live_e,
+                          std::span<const unsigned char> yielding_p = {},
+                          std::span<const unsigned char> yielding_e = {});
 
 // Each part's cost per step at a later state of the run (current_costs), the decomposition kept.
 // Shows how the work moves as a plug and debris leave.
 std::vector<double> part_costs(const Decomposition& d, const EntityCosts& costs,
                                std::span<const int> neighbours_p,
                                std::span<const unsigned char> live_p,
-                               std::span<const unsigned char> live_e);
+                               std::span<const unsigned char> live_e,
+                               std::span<const unsigned char> yielding_p = {},
+                               std::span<const unsigned char> yielding_e = {});
 
 // Each part's cost per step in each phase of the step: the particles' (with the background
 // particles) and the elements'. Throws sphfem::Error when the costs are not of the

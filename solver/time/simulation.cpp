@@ -4,7 +4,9 @@
 #include "solver/core/parallel.hpp"
 #include "solver/fem/hex8.hpp"
 #include "solver/fem/hex_update.hpp"
+#include "solver/material/material_point.hpp"
 #include "solver/parallel/ranks.hpp"
+#include "solver/time/cost_estimate.hpp"
 
 #include <algorithm>
 #include <array>
@@ -218,13 +220,21 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   const Particles& p = particles_.particles();
   double particle_cost = 0, element_cost = 0;
   const IndexRange real = own_rows(0, p.size()), attached = own_rows(p.size(), p.rows());
+  const auto yields_p = [&](Index i) -> unsigned char {
+    return yielding(materials_[p.material_p[i]], p.S_p[i], p.point_p[i]);
+  };
+  const HexElements& e = elements_;
+  const auto yields_e = [&](Index k) -> unsigned char {
+    return yielding(materials_[e.material_e[k]], e.S_e[e.slot(k)], e.point_e[e.slot(k)]);
+  };
+  const auto extra = [](bool yields) { return yields ? StepCost::yielding_point : 0.0; };
   for (Index k = 0; k < real.count; ++k)
     if (p.kill_p[real[k]] != Kill::Tension)
-      particle_cost += live_particle_cost(p.neighbours_p[real[k]]);
+      particle_cost += live_particle_cost(p.neighbours_p[real[k]]) + extra(yields_p(real[k]));
   for (Index k = 0; k < attached.count; ++k)
     particle_cost += reference.background[attached[k] - p.size()];
   for (const Index k : subdomain_->elements)
-    element_cost += elements_.eroded_e[k] == 0 ? reference.element[k] : 0;
+    element_cost += e.eroded_e[k] == 0 ? reference.element[k] + extra(yields_e(k)) : 0;
   const std::vector<double> each = ranks::gather_all(std::array{particle_cost, element_cost});
   PhaseCosts phases;
   for (std::size_t q = 0; q < each.size(); q += 2) {
@@ -235,18 +245,25 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   if (!(r.before > threshold))
     return r;
   // The costs now, by model entity (through id_p: a row's own id but in an old checkpoint), from
-  // the whole state.
+  // the whole state; whether an element yields, from the rank computing it.
   gather_state();
-  const Index np = p.size(), ne = elements_.size();
+  const Index np = p.size(), ne = e.size();
   std::vector<int> neighbours(static_cast<std::size_t>(np));
   std::vector<unsigned char> live_p(static_cast<std::size_t>(np)), live_e(ne);
+  std::vector<unsigned char> yielding_p(static_cast<std::size_t>(np)), yielding_e(ne);
   for (Index i = 0; i < np; ++i) {
     neighbours[p.id_p[i]] = p.neighbours_p[i];
     live_p[p.id_p[i]] = p.kill_p[i] != Kill::Tension;
+    yielding_p[p.id_p[i]] = yields_p(i);
   }
+  for (const Index k : subdomain_->elements)
+    yielding_e[k] = yields_e(k);
+  subdomain_->all_elements.refresh(yielding_e);
+  subdomain_->all_elements.release();
   for (Index k = 0; k < ne; ++k)
-    live_e[k] = elements_.eroded_e[k] == 0;
-  const EntityCosts now = current_costs(reference, neighbours, live_p, live_e);
+    live_e[k] = e.eroded_e[k] == 0;
+  const EntityCosts now =
+      current_costs(reference, neighbours, live_p, live_e, yielding_p, yielding_e);
   Model here = model; // the entities where they are now
   here.x_n = nodes_.x_n;
   for (Index i = 0; i < np; ++i)

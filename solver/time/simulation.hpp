@@ -93,12 +93,12 @@ public:
   void gather_state();
   // A distributed run: when the decomposition's imbalance at the entities' current costs
   // (parallel/decomposition.hpp: current_costs of `reference`, the run's costs at t = 0; killed
-  // particles and eroded elements cost nothing, a particle's neighbours are counted now; each
-  // rank sums its own) exceeds `threshold`, the state is gathered and the entities decomposed
-  // where they are now, each rank taking its share of the whole state. The per-entity arithmetic
-  // is the same under any decomposition and the sums are exact, so the run stays the single
-  // process's bit for bit. Kept when the new one would not be better. Collective; nothing to do on
-  // one process.
+  // particles and eroded elements cost nothing, a particle's neighbours are counted now, an
+  // entity whose material point yields costs its return; each rank sums its own) exceeds
+  // `threshold`, the state is gathered and the entities decomposed where they are now, each rank
+  // taking its share of the whole state. The per-entity arithmetic is the same under any
+  // decomposition and the sums are exact, so the run stays the single process's bit for bit.
+  // Kept when the new one would not be better. Collective; nothing to do on one process.
   Rebalance rebalance(const Model& model, const EntityCosts& reference, double threshold);
   // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
   long long halo_bytes() const;

@@ -1,7 +1,8 @@
 // Unit tests of one material-point update (solver/material/material_point.hpp) and of the
 // Mie–Grüneisen EOS (METHOD.md §5): the radial return lands on the damaged, rate- and
-// temperature-dependent yield surface; heating and damage grow as their laws say; an elastic
-// step stays elastic; the EOS matches its formula, its slope and its isentropic sound speed.
+// temperature-dependent yield surface; heating and damage grow as their laws say; a point yields
+// at its static flow stress; an elastic step stays elastic; the EOS matches its formula, its
+// slope and its isentropic sound speed.
 #include "reference.hpp"
 #include "solver/material/material.hpp"
 #include "solver/material/material_point.hpp"
@@ -103,6 +104,39 @@ TEST_P(ReturnMapping, HeatsAndDamagesAsTheLawsSay) {
       spec.damage->critical_damage * dp / (p_f - spec.damage->threshold_strain);
   EXPECT_NEAR(point.damage, 0.1 + increment, 1e-9 * increment);
   EXPECT_FALSE(point.failed);
+}
+
+// A point yields (its next update enters the return, which the decomposition weighs) when its
+// equivalent stress reaches the static flow stress (1 − D) σ_Y(r, 0, T) of the reference
+// formula: a worn point 1% below it does not, 1% above it does; a point just returned lies on
+// the rate-hardened surface, above it, and yields; a failed point and an elastic material never.
+TEST_P(ReturnMapping, APointYieldsAtItsStaticFlowStress) {
+  const auto specs = weldox_specs();
+  const MaterialSpec& spec = entry(specs, GetParam());
+  const Material m = Material::from(spec);
+  const MaterialPoint point = worn_point();
+  const double flow = (1.0 - 0.1) * sphfem_test::jc_flow(spec, 0.27, 0.0, 500.0);
+  Mat3 direction = Mat3::Zero(); // a shear of equivalent stress 1 Pa
+  direction(0, 1) = direction(1, 0) = 1.0 / std::sqrt(3.0);
+  EXPECT_FALSE(yielding(m, 0.99 * flow * direction, point));
+  EXPECT_TRUE(yielding(m, 1.01 * flow * direction, point));
+
+  MaterialPoint returned = worn_point();
+  Mat3 S = Mat3::Zero();
+  double pressure = 0;
+  const Mat3 D = Vec3(100.0, -50.0, -50.0).asDiagonal();
+  ASSERT_GT(update_point(m, D, Mat3::Zero(), 1e-4, 7850.0, pressure, S, returned, 0.0), 0.0);
+  EXPECT_TRUE(yielding(m, S, returned));
+
+  MaterialPoint failed = worn_point();
+  failed.failed = true;
+  EXPECT_FALSE(yielding(m, 1.01 * flow * direction, failed));
+  MaterialSpec elastic = spec;
+  elastic.model = "elastic";
+  elastic.johnson_cook.reset();
+  elastic.damage.reset();
+  elastic.heating.reset();
+  EXPECT_FALSE(yielding(Material::from(elastic), 1e3 * flow * direction, point));
 }
 
 INSTANTIATE_TEST_SUITE_P(BothRateForms, ReturnMapping,

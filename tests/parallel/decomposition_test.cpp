@@ -1,9 +1,10 @@
 // The domain decomposition (solver/parallel/decomposition.hpp, halo.hpp) against counts worked
 // out by hand on lattices and blocks: a particle's neighbour-list entries in a cubic lattice,
 // the ghost layers a plane cut leaves on each side, the nodes a cut shares, and a cost-weighted
-// cut that gives the part with the dearer particles fewer entities; and a rank's share of the
-// elements (solver/parallel/subdomain.hpp): the nodes it owns, the elements it computes, the
-// halo it reads; and its share of the particles (solver/parallel/particle_share.hpp).
+// cut that gives the part with the dearer particles (or the yielding elements) fewer entities;
+// and a rank's share of the elements (solver/parallel/subdomain.hpp): the nodes it owns, the
+// elements it computes, the halo it reads; and its share of the particles
+// (solver/parallel/particle_share.hpp).
 #include "solver/core/error.hpp"
 #include "solver/parallel/decomposition.hpp"
 #include "solver/parallel/halo.hpp"
@@ -363,6 +364,43 @@ TEST(Decomposition, ImbalanceIsTheWorsePhasesAndANewCutOfTheCurrentCostsRestores
   const Decomposition again = decompose(m, now, 2);
   EXPECT_NEAR(phase_imbalance(again, now), 1.0, 1e-12);
   EXPECT_THROW(phase_imbalance(d, entity_costs(Model())), Error);
+}
+
+TEST(Decomposition, YieldingEntitiesCostTheirReturnAndACutGivesTheirPartFewer) {
+  // A block of 16 × 4 × 4 hexahedra whose half x < 8 mm yields: each of its elements costs
+  // StepCost::yielding_point more, and a yielding particle the same more than a quiet one.
+  REQUIRE_PARTITIONER();
+  Model m;
+  add_lattice(m, 2, 2, 2, Vec3(40 * mm, 0, 0));
+  add_block(m, 16, 4, 4);
+  const EntityCosts c = entity_costs(m);
+  const std::vector<int> ten(m.x_p.size(), 10);
+  const std::vector<unsigned char> live_p(m.x_p.size(), 1), live_e(m.hex_e.size(), 1);
+  std::vector<unsigned char> yielding_p(m.x_p.size(), 0), yielding_e(m.hex_e.size(), 0);
+  yielding_p[3] = 1;
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e)
+    yielding_e[e] = e % 16 < 8; // x fastest in add_block
+  const EntityCosts now = current_costs(c, ten, live_p, live_e, yielding_p, yielding_e);
+  EXPECT_NEAR(now.particle[3] - now.particle[2], StepCost::yielding_point, 1e-18);
+  EXPECT_NEAR(now.element[0] - c.element[0], StepCost::yielding_point, 1e-18);
+  EXPECT_EQ(now.element[8], c.element[8]);
+  EXPECT_EQ(current_costs(c, ten, live_p, live_e).element[0], c.element[0]); // none yields
+  EXPECT_THROW(current_costs(c, ten, live_p, live_e, std::vector<unsigned char>(1, 0)), Error);
+
+  // Cut in two at these costs, the part holding the yielding end takes half the total cost in
+  // elements of ≈ 1.6 × an elastic one's: ≈ 104 of the 256, not 128 — to within the x-plane of
+  // 16 elements that RCB cuts whole. That cut is better balanced than the one of the start.
+  const Decomposition d = decompose(m, now, 2);
+  double total = 0, yielding_cost = 0;
+  for (std::size_t e = 0; e < m.hex_e.size(); ++e) {
+    total += now.element[e];
+    yielding_cost += yielding_e[e] ? now.element[e] / 128.0 : 0.0;
+  }
+  const auto in_yielding_part =
+      static_cast<double>(std::count(d.part_e.begin(), d.part_e.end(), d.part_e[0]));
+  EXPECT_NEAR(in_yielding_part, 0.5 * total / yielding_cost, 16.0);
+  EXPECT_LT(in_yielding_part, 128.0 - 16.0);
+  EXPECT_LT(phase_imbalance(d, now), phase_imbalance(decompose(m, c, 2), now));
 }
 
 TEST(Subdomain, ARankComputesItsElementsAndReceivesTheForcesOfTheOthersOnItsNodes) {
