@@ -107,7 +107,7 @@ void ParticleSystem::receive_neighbourhood() {
   const int rank = ranks::rank();
   std::vector<Index> own; // now (particles may have migrated since the share)
   for (Index k = 0; k < rows; ++k)
-    if ((k < n ? owner_of_id_[p.id_p[k]] : owner_of_background_[k - n]) == rank)
+    if (row_owner(k) == rank)
       own.push_back(k);
   double largest_h = 0;
   for (const Index i : own)
@@ -196,10 +196,8 @@ void ParticleSystem::mark_listed() {
   const Index n = p.size(), rows = p.rows();
   const int rank = ranks::rank();
   listed_.assign(p.total(), 0); // mirror images gather nothing
-  for (Index k = 0; k < n; ++k)
-    listed_[k] = owner_of_id_[p.id_p[k]] == rank;
-  for (Index k = n; k < rows; ++k)
-    listed_[k] = owner_of_background_[k - n] == rank;
+  for (Index k = 0; k < rows; ++k)
+    listed_[k] = row_owner(k) == rank;
   if (attached_rows_listed_if_near_) {
     listed_if_near_.assign(p.total(), 0);
     if (near_if_listed_.empty())

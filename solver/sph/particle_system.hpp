@@ -129,6 +129,11 @@ private:
   void receive_neighbourhood();
   void relist();
   void mark_listed(); // the rows this rank lists (all on one process: none marked)
+  // A distributed run's rank stepping row k (a real particle's or an attached row's).
+  int row_owner(Index k) const {
+    const Index n = particles_.size();
+    return k < n ? owner_of_id_[particles_.id_p[k]] : owner_of_background_[k - n];
+  }
   NeighbourSearch::ListedRows listed() const { return {listed_, listed_if_near_, binned_}; }
   void share(); // the share of the current neighbour list
   bool rebuild_due() const;
