@@ -73,7 +73,7 @@ void ParticleSystem::place_mirrors(std::span<const Vec3> x, double reach) {
   auto& p = particles_;
   mirror_.select(p, x, reach, binned_);
   const Index total = p.rows() + mirror_.size();
-  // Room for a sixteenth more images than now, not the vector's doubling: a row is ≈ 0.9 KB,
+  // Room for a sixteenth more rows than now, not the vector's doubling: a row is ≈ 0.9 KB,
   // and the images are a fraction of the rows (the Børvik quarter: 2 301 of 13 392 rows).
   const auto room = static_cast<std::size_t>(total + total / 16);
   p.for_each_field([total, room](const char*, auto& field) {
