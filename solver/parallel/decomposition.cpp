@@ -388,8 +388,13 @@ int Decomposition::particle_part_at(const Vec3& x, int current, double slack) co
   return part_in(particle_regions, x, current, slack);
 }
 
-double live_particle_cost(int neighbours) {
-  return StepCost::particle + StepCost::entry * neighbours;
+double live_particle_cost(int neighbours, bool yielding) {
+  return StepCost::particle + StepCost::entry * neighbours +
+         (yielding ? StepCost::yielding_point : 0.0);
+}
+
+double live_element_cost(double reference, bool yielding) {
+  return reference + (yielding ? StepCost::yielding_point : 0.0);
 }
 
 EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbours_p,
@@ -403,13 +408,13 @@ EntityCosts current_costs(const EntityCosts& costs, std::span<const int> neighbo
       (!yielding_e.empty() && yielding_e.size() != ne))
     throw Error("decomposition: the state's particles or elements are not the decomposition's");
   const auto yields = [](std::span<const unsigned char> flags, std::size_t k) {
-    return !flags.empty() && flags[k] ? StepCost::yielding_point : 0.0;
+    return !flags.empty() && flags[k] != 0;
   };
   EntityCosts now = costs;
   for (std::size_t i = 0; i < np; ++i)
-    now.particle[i] = live_p[i] ? live_particle_cost(neighbours_p[i]) + yields(yielding_p, i) : 0.0;
+    now.particle[i] = live_p[i] ? live_particle_cost(neighbours_p[i], yields(yielding_p, i)) : 0.0;
   for (std::size_t e = 0; e < ne; ++e)
-    now.element[e] = live_e[e] ? costs.element[e] + yields(yielding_e, e) : 0.0;
+    now.element[e] = live_e[e] ? live_element_cost(costs.element[e], yields(yielding_e, e)) : 0.0;
   return now;
 }
 

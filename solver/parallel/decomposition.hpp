@@ -81,8 +81,12 @@ bool decomposition_available();
 // Zoltan.
 Decomposition decompose(const Model& m, const EntityCosts& costs, int parts);
 
-// A live particle's cost per step with `neighbours` entries in its list (killed: nothing).
-double live_particle_cost(int neighbours);
+// A live particle's cost per step with `neighbours` entries in its list (killed: nothing), and
+// StepCost::yielding_point more when its material point yields.
+double live_particle_cost(int neighbours, bool yielding = false);
+// A live element's cost per step: `reference` (its cost in the reference configuration), and
+// StepCost::yielding_point more when its material point yields.
+double live_element_cost(double reference, bool yielding);
 
 // Each entity's cost per step at a later state of the run: a live particle costs
 // StepCost::particle + StepCost::entry × its current neighbour count, a live element its cost in

@@ -6,7 +6,6 @@
 #include "solver/fem/hex_update.hpp"
 #include "solver/material/material_point.hpp"
 #include "solver/parallel/ranks.hpp"
-#include "solver/time/cost_estimate.hpp"
 
 #include <algorithm>
 #include <array>
@@ -227,14 +226,13 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   const auto yields_e = [&](Index k) -> unsigned char {
     return yielding(materials_[e.material_e[k]], e.S_e[e.slot(k)], e.point_e[e.slot(k)]);
   };
-  const auto extra = [](bool yields) { return yields ? StepCost::yielding_point : 0.0; };
   for (Index k = 0; k < real.count; ++k)
     if (p.kill_p[real[k]] != Kill::Tension)
-      particle_cost += live_particle_cost(p.neighbours_p[real[k]]) + extra(yields_p(real[k]));
+      particle_cost += live_particle_cost(p.neighbours_p[real[k]], yields_p(real[k]));
   for (Index k = 0; k < attached.count; ++k)
     particle_cost += reference.background[attached[k] - p.size()];
   for (const Index k : subdomain_->elements)
-    element_cost += e.eroded_e[k] == 0 ? reference.element[k] + extra(yields_e(k)) : 0;
+    element_cost += e.eroded_e[k] == 0 ? live_element_cost(reference.element[k], yields_e(k)) : 0;
   const std::vector<double> each = ranks::gather_all(std::array{particle_cost, element_cost});
   PhaseCosts phases;
   for (std::size_t q = 0; q < each.size(); q += 2) {
