@@ -458,4 +458,19 @@ double phase_imbalance(const PhaseCosts& c) {
   return std::max(imbalance(c.particle), imbalance(c.element));
 }
 
+double wait_beyond_even(const PhaseCosts& c) {
+  const auto beyond = [](const std::vector<double>& cost) {
+    if (cost.empty())
+      return 0.0;
+    const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
+    return *std::max_element(cost.begin(), cost.end()) - total / static_cast<double>(cost.size());
+  };
+  return beyond(c.particle) + beyond(c.element);
+}
+
+bool new_cut_pays(const PhaseCosts& c, long long steps_served, std::size_t entities) {
+  return wait_beyond_even(c) * static_cast<double>(steps_served) >
+         StepCost::new_cut * static_cast<double>(entities);
+}
+
 } // namespace sphfem

@@ -124,5 +124,13 @@ PhaseCosts phase_costs(const Decomposition& d, const EntityCosts& costs);
 double phase_imbalance(const Decomposition& d, const EntityCosts& costs);
 // The same of each part's phase costs.
 double phase_imbalance(const PhaseCosts& c);
+// What a step waits for beyond an even share, s: the largest part's cost over the mean in each
+// phase, summed over the phases (what the best cut of the same entities would save per step).
+double wait_beyond_even(const PhaseCosts& c);
+// Whether a new cut of a model of `entities` particles and elements, its parts costing `c` per
+// step now, pays: whether evening them out would save, over as many steps as the current cut
+// has served (`steps_served`, the guess of how long the new one will), more than the cut costs
+// (StepCost::new_cut per entity).
+bool new_cut_pays(const PhaseCosts& c, long long steps_served, std::size_t entities);
 
 } // namespace sphfem

@@ -242,6 +242,8 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   r.before = r.after = phase_imbalance(phases);
   if (!(r.before > threshold))
     return r;
+  if (!new_cut_pays(phases, steps_ - last_cut_step_, model.x_p.size() + model.hex_e.size()))
+    return r;
   // The costs now, by model entity (through id_p: a row's own id but in an old checkpoint), from
   // the whole state; whether an element yields, from the rank computing it.
   gather_state();
@@ -271,6 +273,7 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   if (!(after < r.before))
     return r;
   take_share(std::move(d), model);
+  last_cut_step_ = steps_;
   r.after = after;
   r.done = true;
   return r;

@@ -98,7 +98,10 @@ public:
   // `threshold`, the state is gathered and the entities decomposed where they are now, each rank
   // taking its share of the whole state. The per-entity arithmetic is the same under any
   // decomposition and the sums are exact, so the run stays the single process's bit for bit.
-  // Kept when the new one would not be better. Collective; nothing to do on one process.
+  // No cut is made when evening the ranks out would not pay for it over as many steps as the
+  // current cut has served (parallel/decomposition.hpp: new_cut_pays), checked before anything
+  // is gathered; kept when the new one would not be better. Collective; nothing to do on one
+  // process.
   Rebalance rebalance(const Model& model, const EntityCosts& reference, double threshold);
   // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
   long long halo_bytes() const;
@@ -205,6 +208,7 @@ private:
 
   double time_ = 0;
   long long steps_ = 0;
+  long long last_cut_step_ = 0; // the step of the last new cut (Simulation::rebalance)
   double dt_elements_ = 0;
   double dt_previous_ = 0;
   double external_work_ = 0;

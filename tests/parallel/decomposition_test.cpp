@@ -1,7 +1,8 @@
 // The domain decomposition (solver/parallel/decomposition.hpp, halo.hpp) against counts worked
 // out by hand on lattices and blocks: a particle's neighbour-list entries in a cubic lattice,
 // the ghost layers a plane cut leaves on each side, the nodes a cut shares, and a cost-weighted
-// cut that gives the part with the dearer particles (or the yielding elements) fewer entities;
+// cut that gives the part with the dearer particles (or the yielding elements) fewer entities,
+// and a new cut made only when the steps it saves pay for it;
 // and a rank's share of the elements (solver/parallel/subdomain.hpp): the nodes it owns, the
 // elements it computes, the halo it reads; and its share of the particles
 // (solver/parallel/particle_share.hpp).
@@ -401,6 +402,24 @@ TEST(Decomposition, YieldingEntitiesCostTheirReturnAndACutGivesTheirPartFewer) {
   EXPECT_NEAR(in_yielding_part, 0.5 * total / yielding_cost, 16.0);
   EXPECT_LT(in_yielding_part, 128.0 - 16.0);
   EXPECT_LT(phase_imbalance(d, now), phase_imbalance(decompose(m, c, 2), now));
+}
+
+TEST(Decomposition, ANewCutIsMadeWhenTheStepsItSavesPayForIt) {
+  // Three parts costing 3, 2 and 1 ms per step in the particles' phase (mean 2: a step waits
+  // 1 ms beyond an even share) and 5, 5 and 8 ms in the elements' (mean 6: 2 ms more). Evening
+  // them out saves 3 ms a step; a cut of 10⁴ entities costs 10⁴ × StepCost::new_cut = 20 ms,
+  // repaid after 20 / 3 = 6.7 steps of the current cut's service: 7 pay, 6 do not.
+  const PhaseCosts c{{3e-3, 2e-3, 1e-3}, {5e-3, 5e-3, 8e-3}};
+  EXPECT_NEAR(wait_beyond_even(c), 3e-3, 1e-15);
+  const std::size_t entities = 10000;
+  ASSERT_NEAR(StepCost::new_cut * entities, 20e-3, 1e-15);
+  EXPECT_TRUE(new_cut_pays(c, 7, entities));
+  EXPECT_FALSE(new_cut_pays(c, 6, entities));
+  EXPECT_FALSE(new_cut_pays(c, 0, entities)); // a cut just made
+  // Even parts never pay for a cut, however long the cut has served.
+  const PhaseCosts even{{2e-3, 2e-3, 2e-3}, {6e-3, 6e-3, 6e-3}};
+  EXPECT_NEAR(wait_beyond_even(even), 0.0, 1e-18);
+  EXPECT_FALSE(new_cut_pays(even, 1000000, entities));
 }
 
 TEST(Subdomain, ARankComputesItsElementsAndReceivesTheForcesOfTheOthersOnItsNodes) {
