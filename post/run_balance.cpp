@@ -38,6 +38,7 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
   for (const FrameFiles& files : frame_files(run_dir / "results.pvd")) {
     std::vector<int> neighbours(np, 0);
     std::vector<unsigned char> live_p(np, 0), live_e(ne, ne > 0 ? 1 : 0);
+    std::vector<unsigned char> yielding_p(np, 0), yielding_e(ne, 0);
     if (!files.particles.empty()) {
       const auto grid = read_vtu(files.particles);
       const vtkIdType n = grid->GetNumberOfPoints();
@@ -45,6 +46,7 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
       auto* id = frame_array(pd, "id", 1, n, files.particles);
       auto* count = frame_array(pd, "neighbours", 1, n, files.particles);
       auto* killed = frame_array(pd, "killed", 1, n, files.particles, false);
+      auto* yields = frame_array(pd, "yielding", 1, n, files.particles, false);
       for (vtkIdType k = 0; k < n; ++k) {
         const auto i = static_cast<long long>(id->GetComponent(k, 0));
         SPHFEM_CHECK(i >= 0 && static_cast<std::size_t>(i) < np, files.particles.string(),
@@ -52,6 +54,7 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
                      " particles: the run is not of this case");
         neighbours[static_cast<std::size_t>(i)] = static_cast<int>(count->GetComponent(k, 0));
         live_p[static_cast<std::size_t>(i)] = !killed || killed->GetComponent(k, 0) == 0;
+        yielding_p[static_cast<std::size_t>(i)] = yields && yields->GetComponent(k, 0) != 0;
         double x[3];
         grid->GetPoint(k, x);
         int& owner = moved.part_p[static_cast<std::size_t>(i)];
@@ -69,6 +72,9 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
       auto* eroded = frame_array(grid->GetCellData(), "eroded", 1, n, files.elements, false);
       for (vtkIdType e = 0; eroded && e < n; ++e)
         live_e[static_cast<std::size_t>(e)] = eroded->GetComponent(e, 0) == 0;
+      auto* yields = frame_array(grid->GetCellData(), "yielding", 1, n, files.elements, false);
+      for (vtkIdType e = 0; yields && e < n; ++e)
+        yielding_e[static_cast<std::size_t>(e)] = yields->GetComponent(e, 0) != 0;
       vtkNew<vtkIdList> ids;
       for (vtkIdType e = 0; e < n; ++e) {
         grid->GetCellPoints(e, ids);
@@ -86,9 +92,10 @@ RunBalance run_balance(const fs::path& run_dir, const Decomposition& d, const En
                    " hexahedra");
     }
     b.time_s.push_back(files.time);
-    b.cost_s.push_back(part_costs(d, costs, neighbours, live_p, live_e));
+    b.cost_s.push_back(part_costs(d, costs, neighbours, live_p, live_e, yielding_p, yielding_e));
     b.imbalance.push_back(imbalance(b.cost_s.back()));
-    b.region_cost_s.push_back(part_costs(moved, costs, neighbours, live_p, live_e));
+    b.region_cost_s.push_back(
+        part_costs(moved, costs, neighbours, live_p, live_e, yielding_p, yielding_e));
     b.region_imbalance.push_back(imbalance(b.region_cost_s.back()));
   }
   return b;

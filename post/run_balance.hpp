@@ -1,6 +1,7 @@
 // How the work of a finished run moves among the ranks of a fixed decomposition (issue 28's
 // rebalancing): for each frame of RUN/results.pvd, each rank's cost per step with the particles
-// alive then, at their neighbour counts then, and the elements not eroded
+// alive then, at their neighbour counts then, and the elements not eroded, those whose material
+// point yields then costing their return (the frames' `yielding` flag; absent: none yields)
 // (solver/parallel/decomposition.hpp, part_costs), the entities owned as at t = 0 or by the
 // region they are in. Used by `sphfem partition --run`.
 // Verified by tests/e2e/partition_command_test.cpp.

@@ -3,6 +3,7 @@
 #include "solver/core/error.hpp"
 #include "solver/fem/nodal_stress.hpp"
 #include "solver/io/atomic_file.hpp"
+#include "solver/material/material_point.hpp"
 #include "solver/parallel/ranks.hpp"
 
 #include <vtkCellArray.h>
@@ -47,23 +48,27 @@ vtkSmartPointer<vtkIntArray> int_array(const char* name, const std::vector<int>&
 } // namespace
 
 // The material history of inelastic materials (absent from runs without one): plastic
-// strain, damage, temperature (K) and a failure flag (killed particles, eroded elements).
+// strain, damage, temperature (K), a failure flag (killed particles, eroded elements) and
+// whether the point yields now (material/material_point.hpp: yielding).
 struct FrameWriter::History {
   vtkSmartPointer<vtkDoubleArray> plastic_strain, damage, temperature;
-  vtkSmartPointer<vtkIntArray> failed;
+  vtkSmartPointer<vtkIntArray> failed, yielding;
 
   History(const char* flag, vtkDataSetAttributes* into)
       : plastic_strain(double_array("plastic_strain", 1, 0)), damage(double_array("damage", 1, 0)),
-        temperature(double_array("temperature", 1, 0)), failed(int_array(flag, {})) {
+        temperature(double_array("temperature", 1, 0)), failed(int_array(flag, {})),
+        yielding(int_array("yielding", {})) {
     for (auto& a : {plastic_strain, damage, temperature})
       into->AddArray(a);
     into->AddArray(failed);
+    into->AddArray(yielding);
   }
-  void set(vtkIdType k, const MaterialPoint& point, int flag) {
+  void set(vtkIdType k, const Material& m, const Mat3& S, const MaterialPoint& point, int flag) {
     plastic_strain->SetValue(k, point.plastic_strain);
     damage->SetValue(k, point.damage);
     temperature->SetValue(k, point.temperature);
     failed->SetValue(k, flag);
+    yielding->SetValue(k, sphfem::yielding(m, S, point));
   }
 };
 
@@ -178,8 +183,8 @@ std::string pvtu_text(vtkUnstructuredGrid* grid, const std::string& stem, int ra
 } // namespace
 
 FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const HexElements& e,
-                         const Particles& particles)
-    : out_dir_(out_dir) {
+                         const Particles& particles, std::vector<Material> materials)
+    : out_dir_(out_dir), materials_(std::move(materials)) {
   std::filesystem::create_directories(out_dir_ / "frames");
   if (particles.size() > 0) {
     cloud_ = std::make_unique<Cloud>();
@@ -362,7 +367,7 @@ void FrameWriter::write_parts(const Nodes& nodes, const HexElements& e, const Pa
       g.pressure->SetValue(k, e.p_e[slot]);
       g.density->SetValue(k, e.mass_e[j] / e.V_e[slot]);
       if (g.history) {
-        g.history->set(k, e.point_e[slot], e.eroded_e[j]);
+        g.history->set(k, materials_[e.material_e[j]], e.S_e[slot], e.point_e[slot], e.eroded_e[j]);
         g.ghost->SetValue(k, e.eroded_e[j] ? vtkDataSetAttributes::HIDDENCELL : 0);
       }
     }
@@ -406,7 +411,8 @@ void FrameWriter::write_parts(const Nodes& nodes, const HexElements& e, const Pa
       c.body_id->SetValue(k, p.body_p[i]);
       c.id->SetValue(k, static_cast<int>(p.id_p[i]));
       if (c.history)
-        c.history->set(k, p.point_p[i], p.kill_p[i] != Kill::None);
+        c.history->set(k, materials_[p.material_p[i]], p.S_p[i], p.point_p[i],
+                       p.kill_p[i] != Kill::None);
     }
     c.points->Modified();
     write_vtu(file_name("sph"), c.grid);

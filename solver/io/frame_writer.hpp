@@ -15,13 +15,16 @@
 // internal_energy (specific, J/kg), mass (kg), neighbours (count within 2h), body_id, id (index in
 // model.h5).
 // With a Johnson–Cook material, also plastic_strain, damage and temperature (K) on particles
-// and cells, killed (particles, 0/1) and eroded (cells, 0/1); eroded cells are marked hidden
-// in the vtkGhostType array, so ParaView does not draw them.
+// and cells, killed (particles, 0/1), eroded (cells, 0/1) and yielding (0/1: the point's
+// equivalent stress has reached its static flow stress, its next update returns to the yield
+// surface — the active plastic zone; material/material_point.hpp: yielding); eroded cells are
+// marked hidden in the vtkGhostType array, so ParaView does not draw them.
 // Verified by tests/e2e/run_test.cpp (frames re-read with VTK's reader) and, in pieces, by
 // tests/e2e/mpi_launch_test.cpp (read back by the post tool as the single process's frames).
 #pragma once
 
 #include "solver/io/state_archive.hpp"
+#include "solver/material/material.hpp"
 
 #include "solver/state/hex_elements.hpp"
 #include "solver/state/nodes.hpp"
@@ -47,9 +50,10 @@ struct FramePiece {
 
 class FrameWriter {
 public:
-  // Frames of a model with these elements and particles (the arrays each part has).
+  // Frames of a model with these elements and particles (the arrays each part has), of these
+  // materials (indexed as material_e and material_p).
   FrameWriter(const std::filesystem::path& out_dir, const HexElements& e,
-              const Particles& particles);
+              const Particles& particles, std::vector<Material> materials);
   ~FrameWriter();
 
   // The whole model into one file per part; with `piece`, this rank's piece of each part.
@@ -68,6 +72,7 @@ private:
   void write_collection() const;
 
   std::filesystem::path out_dir_;
+  std::vector<Material> materials_;
   struct History;
   struct Grid;
   struct Cloud;

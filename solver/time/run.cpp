@@ -197,7 +197,8 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   // naming them (io/frame_writer.hpp).
   std::unique_ptr<FrameWriter> frames;
   if (c.output.frames && (writer || decomposition))
-    frames = std::make_unique<FrameWriter>(out, sim.elements(), sim.particle_system().particles());
+    frames = std::make_unique<FrameWriter>(out, sim.elements(), sim.particle_system().particles(),
+                                           sim.materials());
   const auto write_frame = [&] {
     const Particles& p = sim.particle_system().particles();
     if (!decomposition) {

@@ -131,6 +131,7 @@ public:
 
   const Nodes& nodes() const { return nodes_; }
   const HexElements& elements() const { return elements_; }
+  const std::vector<Material>& materials() const { return materials_; } // by material index
   const NodeGather& node_gather() const { return gather_; }
   const ParticleSystem& particle_system() const { return particles_; }
   const Contact& contact() const { return contact_; }

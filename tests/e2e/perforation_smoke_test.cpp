@@ -2,13 +2,21 @@
 // strikes a 4 mm Weldox 460 E plate (particles, Johnson–Cook with damage, heating and the
 // Mie–Grüneisen EOS, both from cases/materials/) at 800 m/s. The run must kill particles and
 // still conserve mass and momentum, keep the energy balance, and write the material history
-// to the frames and the kill counts to summary.json.
+// to the frames (with the yielding flag, checked against the flow stress) and the kill counts
+// to summary.json.
 #include "tests/support/command.hpp"
 #include "tests/support/punch_case.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +25,55 @@
 
 namespace fs = std::filesystem;
 using sphfem::test::slurp;
+
+namespace {
+
+// A frame's `yielding` flag against Weldox 460 E's static flow stress (cases/materials/
+// weldox460e.yaml, [paper]) computed here from the frame's own plastic strain p, damage D and
+// temperature T: (1 − D)(A + B rⁿ)(1 − T*ᵐ), r the damage-accumulated strain (ṙ = (1 − D) ṗ),
+// which the frame does not hold but which lies in [(1 − D) p, p]. A particle whose von Mises
+// stress is 0.1% above the upper bound must yield, one 0.1% below the lower bound must not;
+// in between the frame cannot tell.
+void expect_yielding_where_the_flow_stress_is_reached(const fs::path& file) {
+  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPointData* pd = reader->GetOutput()->GetPointData();
+  const auto array = [&](const char* name) {
+    vtkDataArray* a = pd->GetArray(name);
+    EXPECT_NE(a, nullptr) << name;
+    return a;
+  };
+  vtkDataArray *vm = array("von_mises"), *p = array("plastic_strain"), *d = array("damage"),
+               *t = array("temperature"), *killed = array("killed"), *yields = array("yielding");
+  if (!vm || !p || !d || !t || !killed || !yields)
+    return;
+  constexpr double A = 490e6, B = 807e6, n = 0.73, m = 0.94, T_r = 293, T_m = 1800;
+  int yielding = 0, quiet = 0;
+  for (vtkIdType k = 0; k < pd->GetNumberOfTuples(); ++k) {
+    if (killed->GetComponent(k, 0) != 0) {
+      EXPECT_EQ(yields->GetComponent(k, 0), 0) << "killed particle " << k;
+      continue;
+    }
+    const double D = d->GetComponent(k, 0), strain = p->GetComponent(k, 0);
+    const double hot = std::max(0.0, (t->GetComponent(k, 0) - T_r) / (T_m - T_r));
+    const double scale = (1 - D) * (1 - std::pow(hot, m));
+    const double upper = scale * (A + B * std::pow(strain, n));
+    const double lower = scale * (A + B * std::pow((1 - D) * strain, n));
+    const double stress = vm->GetComponent(k, 0);
+    if (stress > 1.001 * upper) {
+      EXPECT_EQ(yields->GetComponent(k, 0), 1) << "particle " << k << " at " << stress << " Pa";
+      ++yielding;
+    } else if (stress < 0.999 * lower) {
+      EXPECT_EQ(yields->GetComponent(k, 0), 0) << "particle " << k << " at " << stress << " Pa";
+      ++quiet;
+    }
+  }
+  EXPECT_GT(yielding, 10);
+  EXPECT_GT(quiet, 100);
+}
+
+} // namespace
 
 TEST(PerforationSmoke, KillsParticlesAndConservesWhatItMust) {
   const fs::path dir = fs::temp_directory_path() / "sphfem_e2e_punch";
@@ -61,8 +118,9 @@ TEST(PerforationSmoke, KillsParticlesAndConservesWhatItMust) {
 
   // The last particle frame carries the material history and the kill flag.
   const std::string frame = slurp(dir / "out" / "frames" / "sph_000003.vtu");
-  for (const char* array : {"plastic_strain", "damage", "temperature", "killed"})
+  for (const char* array : {"plastic_strain", "damage", "temperature", "killed", "yielding"})
     EXPECT_NE(frame.find(std::string("Name=\"") + array + "\""), std::string::npos) << array;
+  expect_yielding_where_the_flow_stress_is_reached(dir / "out" / "frames" / "sph_000001.vtu");
 }
 
 TEST(PerforationSmoke, QuarterModelMatchesTheWholeOne) {

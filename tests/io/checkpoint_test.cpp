@@ -360,7 +360,7 @@ TEST(Checkpoint, RunOutputsOfAnotherKindAreRefused) {
   const Nodes nodes;
   const HexElements elements;
   const Particles particles;
-  FrameWriter frames(f.dir / "frames", elements, particles);
+  FrameWriter frames(f.dir / "frames", elements, particles, {});
   EXPECT_NE(refusal([&](StateArchive& a) { frames.persist(a); }).find("unreadable frame list"),
             std::string::npos);
 }
