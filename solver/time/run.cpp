@@ -2,6 +2,7 @@
 
 #include "solver/core/error.hpp"
 #include "solver/core/format.hpp"
+#include "solver/core/peak_memory.hpp"
 #include "solver/io/atomic_file.hpp"
 #include "solver/io/checkpoint.hpp"
 #include "solver/io/frame_writer.hpp"
@@ -411,6 +412,11 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   }
   summary["units"] = {{"time", "s"},       {"energy", "J"},   {"mass", "kg"},
                       {"velocity", "m/s"}, {"position", "m"}, {"wall_s", "s"}};
+  // The largest rank's peak resident memory (each rank's, when distributed), MB.
+  const double peak_mb = peak_resident_mb();
+  const std::vector<double> peaks =
+      decomposition ? ranks::gather_all(std::array{peak_mb}) : std::vector<double>{peak_mb};
+  summary["peak_resident_MB"] = *std::max_element(peaks.begin(), peaks.end());
   if (decomposition) {
     // What the ranks sent each other per step, per entity: the halos, the element forces, the
     // background particles, and at each rebuild the migrating particles and the positions of
@@ -431,6 +437,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
       largest = std::max(largest, fraction);
     }
     summary["halo_fraction"] = {{"mean", mean}, {"max", largest}};
+    summary["peak_resident_MB_per_rank"] = peaks;
     log.line("ranks exchanged " + format("%.3g", sent / 1e6) + " MB (" +
              format("%.3g", entity_steps > 0 ? sent / entity_steps : 0.0) +
              " B per entity-step) for their halos; halo fraction " + format("%.3f", mean) +
@@ -441,7 +448,9 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
 
   log.line("done: " + std::to_string(sim.steps()) + " steps in " + format("%.2f", wall) + " s (" +
            format("%.3g", summary["entity_steps_per_s"].get<double>()) +
-           " entity-steps/s); energy balance error " + format("%.2e", balance));
+           " entity-steps/s); energy balance error " + format("%.2e", balance) + "; peak memory " +
+           format("%.0f", summary["peak_resident_MB"].get<double>()) + " MB" +
+           (decomposition ? " (largest rank)" : ""));
   for (const auto& warning : summary["warnings"])
     log.line("warning: " + warning.get<std::string>());
   return summary;

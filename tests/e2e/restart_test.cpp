@@ -52,6 +52,7 @@ nlohmann::json summary_without_wall_time(const fs::path& out) {
   nlohmann::json s = nlohmann::json::parse(slurp(out / "summary.json"));
   s.erase("wall_s");
   s.erase("entity_steps_per_s");
+  s.erase("peak_resident_MB");
   return s;
 }
 

@@ -82,8 +82,12 @@ TEST(Run, BarCaseWritesEveryOutput) {
 
   const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
   for (const char* key : {"case", "steps", "time", "wall_s", "entity_steps_per_s", "threads",
-                          "counts", "energy", "momentum_drift", "bodies"})
+                          "counts", "energy", "momentum_drift", "bodies", "peak_resident_MB"})
     EXPECT_TRUE(summary.contains(key)) << key;
+  // The process held at least the 2 500 elements' state (≈ 0.6 kB each), and less than the
+  // machine has.
+  EXPECT_GT(summary["peak_resident_MB"].get<double>(), 1.5);
+  EXPECT_LT(summary["peak_resident_MB"].get<double>(), 24 * 1024.0);
   EXPECT_EQ(summary["counts"]["elements"].get<int>(), 2500);
   EXPECT_NEAR(summary["time"].get<double>(), 1.4e-5, 1e-15);
   EXPECT_LT(summary["energy"]["balance_error"].get<double>(), 0.01);

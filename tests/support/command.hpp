@@ -76,10 +76,10 @@ inline bool wait_for_file(const std::filesystem::path& file, pid_t pid) {
 }
 
 // A run's summary.json without what varies from run to run of the same case (wall time, rate,
-// thread count): what two runs that must agree are compared on.
+// thread count, peak memory): what two runs that must agree are compared on.
 inline nlohmann::json summary_without_timing(const std::filesystem::path& run) {
   auto s = nlohmann::json::parse(slurp(run / "summary.json"));
-  for (const char* varies : {"wall_s", "entity_steps_per_s", "threads"})
+  for (const char* varies : {"wall_s", "entity_steps_per_s", "threads", "peak_resident_MB"})
     s.erase(varies);
   return s;
 }
