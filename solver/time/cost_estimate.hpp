@@ -28,7 +28,7 @@ struct StepCost {
   // A distributed run's new cut, per particle and element of the whole model: the gather of
   // every rank's state, the bisection and the new share with its neighbour lists. Measured
   // 2026-12-07 on the Børvik shots at 2 ranks × 1 thread (median of 10 cuts of the coarse
-  // shot, 15 040 entities: 40 ms; of 30 of the standard one, 50 189: 80 ms); a cut is made
+  // shot, 15 040 entities: 40 ms; of 23 of the standard one, 50 189: 80 ms); a cut is made
   // only when the work it saves pays for it (time/simulation.hpp: Simulation::rebalance).
   static constexpr double new_cut = 2e-6;
 };
