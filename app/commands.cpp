@@ -64,7 +64,7 @@ void add_solve_options(CLI::App& cmd, CommonOptions& o) {
   cmd.add_option("--rebalance", o.rebalance,
                  "under mpirun: share the work anew when the busiest rank's cost per step passes "
                  "this multiple of the mean and evening the ranks out would pay for the new cut "
-                 "(checked at each history row, frame and checkpoint; 0: never)")
+                 "(checked at each history row and frame; 0: never)")
       ->default_val(1.02)
       ->check(CLI::Validator(
           [](const std::string& text) {

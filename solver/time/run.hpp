@@ -26,7 +26,7 @@ struct SolveOptions {
   bool echo = true;              // log and progress on stderr
   std::filesystem::path restart; // a checkpoint.h5 to continue from (empty: start at t = 0)
   // A distributed run: a new decomposition when the largest rank's cost per step passes this
-  // multiple of the mean (checked at each history row, frame and checkpoint; 0: never).
+  // multiple of the mean (checked at each history row and frame; 0: never).
   double rebalance = 1.02;
 };
 
