@@ -448,24 +448,35 @@ double phase_imbalance(const Decomposition& d, const EntityCosts& costs) {
   return phase_imbalance(phase_costs(d, costs));
 }
 
+namespace {
+
+// A phase's largest part cost and the parts' total, s (0 and 0 without parts).
+struct PhaseSpread {
+  double largest = 0, total = 0;
+  double parts = 0;
+  explicit PhaseSpread(const std::vector<double>& cost) : parts(static_cast<double>(cost.size())) {
+    if (cost.empty())
+      return;
+    largest = *std::max_element(cost.begin(), cost.end());
+    total = std::accumulate(cost.begin(), cost.end(), 0.0);
+  }
+};
+
+} // namespace
+
 double phase_imbalance(const PhaseCosts& c) {
   // Each phase waits for its slowest part: the worse of the two phases' imbalances.
-  const auto imbalance = [](const std::vector<double>& cost) {
-    const double largest = *std::max_element(cost.begin(), cost.end());
-    const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
-    return total > 0 ? largest * static_cast<double>(cost.size()) / total : 1.0;
+  const auto imbalance = [](const PhaseSpread& s) {
+    return s.total > 0 ? s.largest * s.parts / s.total : 1.0;
   };
-  return std::max(imbalance(c.particle), imbalance(c.element));
+  return std::max(imbalance(PhaseSpread(c.particle)), imbalance(PhaseSpread(c.element)));
 }
 
 double wait_beyond_even(const PhaseCosts& c) {
-  const auto beyond = [](const std::vector<double>& cost) {
-    if (cost.empty())
-      return 0.0;
-    const double total = std::accumulate(cost.begin(), cost.end(), 0.0);
-    return *std::max_element(cost.begin(), cost.end()) - total / static_cast<double>(cost.size());
+  const auto beyond = [](const PhaseSpread& s) {
+    return s.parts > 0 ? s.largest - s.total / s.parts : 0.0;
   };
-  return beyond(c.particle) + beyond(c.element);
+  return beyond(PhaseSpread(c.particle)) + beyond(PhaseSpread(c.element));
 }
 
 bool new_cut_pays(const PhaseCosts& c, long long steps_served, std::size_t entities) {
