@@ -13,7 +13,7 @@ namespace sphfem {
 
 ParticleSystem::ParticleSystem(const Case& c, const Model& model,
                                const std::vector<Material>& materials, Index attached,
-                               const AttachRows& attach)
+                               const AttachRows& attach, bool distributed)
     : spec_(c.sph), materials_(materials), mirror_(c),
       dt_stable_(std::numeric_limits<double>::infinity()) {
   const Index n = model.particle_count(), total = n + attached;
@@ -43,9 +43,19 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
   index_of_id_.resize(n);
   for (Index k = 0; k < n; ++k)
     index_of_id_[p.id_p[k]] = k;
+  if (!distributed)
+    start();
+}
+
+void ParticleSystem::start() {
+  auto& p = particles_;
   rebuild();
-  sph_kinematics(p, search_.list(), spec_, 0.0);
-  mirror_.refresh_stress(p, p.rows());
+  if (distributed_)
+    share();
+  sph_kinematics(p, search_.list(), spec_, 0.0, own_rows(), visible_rows());
+  if (share_)
+    share_->halo.refresh_each([&p](auto visit) { p.for_each_updated_field(visit); });
+  mirror_.refresh_stress(p, p.rows(), visible_rows());
   forces(0.0);
 }
 
@@ -91,7 +101,7 @@ void ParticleSystem::place_mirrors(std::span<const Vec3> x, double reach) {
 // distributed run's rank bins its own rows and those near them (receive_neighbourhood).
 void ParticleSystem::rebuild() {
   auto& p = particles_;
-  if (share_)
+  if (distributed_)
     receive_neighbourhood();
   place_mirrors(p.x_p, mirror_.empty() ? 0.0 : mirror_reach(p.h_p, false));
   mark_listed();
@@ -197,7 +207,7 @@ void ParticleSystem::relist() {
 void ParticleSystem::mark_listed() {
   listed_.clear();
   listed_if_near_.clear();
-  if (owner_of_id_.empty())
+  if (!distributed_)
     return;
   const auto& p = particles_;
   const Index n = p.size(), rows = p.rows();
@@ -251,12 +261,17 @@ void ParticleSystem::persist(StateArchive& a) {
 
 void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                                 bool attached_rows_listed_if_near, Migration migration) {
+  distributed_ = true;
   owner_of_id_ = std::move(owner_of_id);
   migration_ = std::move(migration);
   owner_of_background_ = std::move(owner_of_background);
   attached_rows_listed_if_near_ = attached_rows_listed_if_near;
   if (empty())
     return;
+  if (!search_.built()) {
+    start();
+    return;
+  }
   relist(); // the last build's lists of the rows this rank now steps
   ++list_builds_;
   share();

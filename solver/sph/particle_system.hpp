@@ -38,9 +38,11 @@ public:
 
   ParticleSystem() = default;
   // attached: how many rows follow the real particles (the model's background nodes); attach
-  // fills them. Both or neither.
+  // fills them. Both or neither. The neighbour lists, the kinematics and the forces at t = 0 are
+  // made here on one process; a distributed run (`distributed`) makes them in distribute(), of
+  // the rows each rank steps only.
   ParticleSystem(const Case& c, const Model& model, const std::vector<Material>& materials,
-                 Index attached = 0, const AttachRows& attach = {});
+                 Index attached = 0, const AttachRows& attach = {}, bool distributed = false);
 
   bool empty() const { return particles_.total() == 0; }
   // How a distributed run's real particles change rank between cuts: at each neighbour-list
@@ -58,7 +60,8 @@ public:
   // checkpoint after it. owner_of_background: the rank of each attached row. The neighbour
   // lists are then of the rows this rank steps only, and, when `attached_rows_listed_if_near`,
   // of the attached rows within two list cutoffs of one of them (a coupling reads those: the
-  // surface contact finds its candidates from its faces' corners).
+  // surface contact finds its candidates from its faces' corners). The first call of a system
+  // made `distributed` also makes its state at t = 0 (lists, kinematics, forces).
   void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                   bool attached_rows_listed_if_near, Migration migration = {});
   // Particles that changed rank since the start (over all ranks).
@@ -125,6 +128,10 @@ public:
 
 private:
   void rebuild();
+  // The lists, kinematics and forces at t = 0: of every row on one process, of this rank's rows
+  // in a distributed run (every row is current on every rank at t = 0; the halo then receives
+  // what the kinematics wrote, as in update()).
+  void start();
   void migrate();
   void receive_neighbourhood();
   void relist();
@@ -154,6 +161,7 @@ private:
   double dt_stable_ = 0;
   long long rebuilds_ = 0;
   long long list_builds_ = 0;
+  bool distributed_ = false;             // distribute() was called
   std::vector<int> owner_of_id_;         // a distributed run's owners by model id; else empty
   std::vector<int> owner_of_background_; // and of the attached rows
   Migration migration_;

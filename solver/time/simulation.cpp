@@ -82,26 +82,30 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
     subdomain_ = std::make_unique<Subdomain>(make_subdomain(decomposition_, model, ranks::rank()));
   }
   background_ = BackgroundParticles(model.background_nodes);
-  particles_ = ParticleSystem(c, model, materials_, background_.size(), [&](Particles& p) {
-    background_.initialise(c, model, materials_, p);
-    background_.fill(nodes_, elements_, gather_, p);
-  });
+  // A distributed run's particle phase starts in distribute(): each rank lists, moves and
+  // pushes only the rows it steps from the first step on.
+  particles_ = ParticleSystem(
+      c, model, materials_, background_.size(),
+      [&](Particles& p) {
+        background_.initialise(c, model, materials_, p);
+        background_.fill(nodes_, elements_, gather_, p);
+      },
+      subdomain_ != nullptr);
   particle_boundaries_ = ParticleBoundaries(c, model);
   contact_ = Contact(c, model, particles_.particles(), background_, elements_);
-  contact_.apply(particles_.particles(), particles_.neighbours(), particles_.list_builds(),
-                 elements_, 0.0);
   reference_state();
   if (subdomain_)
     particles_.distribute(decomposition_.part_p, decomposition_.part_b,
                           contact_.reads_lists_of_nearby_background_rows(),
                           migration(decomposition_));
+  apply_contact(0.0);
 
   const std::vector<Index>* computed = subdomain_ ? &subdomain_->elements : nullptr;
   dt_elements_ =
       update_hex_elements({nodes_.x_n, nodes_.v_n, 0.0, computed}, materials_, fem_, elements_);
   if (subdomain_)
     dt_elements_ = ranks::min(dt_elements_);
-  background_.return_forces(particles_.particles(), nodes_.f_int_n);
+  return_background_forces();
   initial_energy_ = energies().total(); // kinetic, and contact energy if bodies start close
   initial_momentum_ = momentum();
   const auto& p = particles_.particles();
@@ -400,6 +404,14 @@ void Simulation::step(double dt) {
     subdomain_->background_filled.refresh_each(
         [this](auto visit) { BackgroundParticles::visit_filled(particles_.particles(), visit); });
   particles_.update(dt);
+  apply_contact(dt);
+  return_background_forces();
+  time_ += dt;
+  dt_previous_ = dt;
+  ++steps_;
+}
+
+void Simulation::apply_contact(double dt) {
   if (const std::vector<Index>* own = particles_.own_rows(); own != nullptr) {
     const ContactRanks ranks{own, particles_.owned_rows(), particles_.shares(),
                              [this](std::span<const Index> rows) { particles_.read_also(rows); }};
@@ -409,13 +421,14 @@ void Simulation::step(double dt) {
     contact_.apply(particles_.particles(), particles_.neighbours(), particles_.list_builds(),
                    elements_, dt);
   }
+}
+
+void Simulation::return_background_forces() {
   if (subdomain_)
     subdomain_->background_returned.refresh_each(
         [this](auto visit) { BackgroundParticles::visit_returned(particles_.particles(), visit); });
-  background_.return_forces(particles_.particles(), f, filled_here);
-  time_ += dt;
-  dt_previous_ = dt;
-  ++steps_;
+  background_.return_forces(particles_.particles(), nodes_.f_int_n,
+                            subdomain_ ? &subdomain_->background : nullptr);
 }
 
 void Simulation::persist(StateArchive& a) {

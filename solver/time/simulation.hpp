@@ -170,6 +170,12 @@ private:
   // ranks change in number, every rank learns each element's state (the elements a rank does
   // not compute keep old flags otherwise). Collective.
   void share_erosion();
+  // The contact after the particle phase (dt: the step just taken, 0 at the start), on this
+  // rank's rows in a distributed run. Collective then.
+  void apply_contact(double dt);
+  // The background particles' pair and contact forces into their nodes' f_int_n, from the rank
+  // that stepped them (a distributed run: the nodes' ranks receive them first; collective).
+  void return_background_forces();
   // `d` with the interface ties applied: a tied node goes with its particle, so that the tie's
   // merge is one rank's. (A background particle is stepped by the particles' cut — its pair
   // loops are particle-phase work — and filled by its node's rank.)
