@@ -75,6 +75,31 @@ HaloExchange HaloExchange::pushed(std::vector<std::vector<Index>> sends) {
   return h;
 }
 
+HaloExchange HaloExchange::gather(std::span<const int> owner, GatherTo to) {
+  HaloExchange h;
+  const int n = ranks::size(), me = ranks::rank();
+  if (n == 1)
+    return h;
+  const auto receives = [to](int r) { return to == GatherTo::every_rank || r == 0; };
+  h.send_.assign(n, {});
+  h.receive_.assign(n, {});
+  for (std::size_t i = 0; i < owner.size(); ++i) {
+    const int r = owner[i];
+    SPHFEM_CHECK(r >= 0 && r < n, "halo: entity ", i, " has owner ", r, " of ", n,
+                 " ranks (internal error)");
+    if (r == me) {
+      for (int to_rank = 0; to_rank < n; ++to_rank)
+        if (to_rank != me && receives(to_rank))
+          h.send_[to_rank].push_back(static_cast<Index>(i));
+    } else if (receives(me)) {
+      h.receive_[r].push_back(static_cast<Index>(i));
+    }
+  }
+  h.send_buffer_.resize(n);
+  h.receive_buffer_.resize(n);
+  return h;
+}
+
 std::vector<std::vector<Index>>
 HaloExchange::delivered(const std::vector<std::vector<Index>>& lists) {
   const int n = static_cast<int>(lists.size());
@@ -140,6 +165,10 @@ void HaloExchange::transfer(std::size_t unit) {
 HaloExchange::HaloExchange(std::span<const int>, std::span<const Index>) {}
 
 HaloExchange HaloExchange::pushed(std::vector<std::vector<Index>>) {
+  return {};
+}
+
+HaloExchange HaloExchange::gather(std::span<const int>, GatherTo) {
   return {};
 }
 

@@ -25,6 +25,10 @@
 
 namespace sphfem {
 
+// Whom a gather of a whole state serves: every rank (a new cut, a message naming an entity of
+// all) or rank 0 alone, which writes the checkpoint.
+enum class GatherTo { every_rank, writer };
+
 class HaloExchange {
 public:
   HaloExchange() = default;
@@ -34,6 +38,9 @@ public:
   // The other way round: sends[r] lists the entities this rank sends to rank r (its own, or any
   // it holds current), and each rank learns what it receives. Collective.
   static HaloExchange pushed(std::vector<std::vector<Index>> sends);
+  // A gather: every entity into the ranks `to` names, from its owner (owner[i], the same on
+  // every rank). Each rank knows from `owner` what it sends and receives, so nothing is agreed.
+  static HaloExchange gather(std::span<const int> owner, GatherTo to);
 
   // Owners' values into the read slots of every rank, for each field `for_each` visits:
   // for_each(visit) calls visit(name, field) per field (as Nodes::for_each_field does).

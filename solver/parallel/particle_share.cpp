@@ -46,13 +46,11 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
     for (Index j : list.of(i))
       read[row_of(j)] = 1;
   }
-  std::vector<Index> others;
   for (Index i = 0; i < rows; ++i) {
     if (s.owns[i]) {
       s.visible.push_back(i);
       continue;
     }
-    others.push_back(i);
     if (read[i]) {
       s.halo_rows.push_back(i);
       s.visible.push_back(i);
@@ -62,7 +60,6 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
   if (!collective)
     return s;
   s.halo = HaloExchange(s.owner, s.halo_rows);
-  s.all = HaloExchange(s.owner, others);
   return s;
 }
 

@@ -8,8 +8,9 @@
 //   (Particles::for_each_moved_field: positions, velocities, forces, the background fill) and
 //   after the material update what it changed (for_each_updated_field: density, stress, kill
 //   state and the rest that the forces read), so that no rank repeats another's material update;
-//   each carries what the owners wrote since the other (together a third of a row's bytes);
-// - `all`: every row this rank does not own, every field, before a checkpoint or a new cut.
+//   each carries what the owners wrote since the other (together a third of a row's bytes).
+// A gather of every row (before a checkpoint or a new cut) is made when needed from `owner`
+// (HaloExchange::gather).
 // Mirror images are a rank's own: those of the rows it bins at a rebuild (below), numbered in
 // their sources' order; it refreshes each step only those of its visible rows (`visible`), the
 // only ones its rows read.
@@ -40,7 +41,7 @@ struct ParticleShare {
   std::vector<Index> own;          // owned rows, ascending
   std::vector<Index> halo_rows;    // rows read here and owned elsewhere, ascending
   std::vector<Index> visible;      // own and halo rows, then the images of those, ascending
-  HaloExchange halo, all;
+  HaloExchange halo;
 };
 
 // owner_of_id: the rank of each model particle; owner_of_background: of each background row in

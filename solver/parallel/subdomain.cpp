@@ -35,10 +35,8 @@ Subdomain make_subdomain(const Decomposition& d, const Model& m, int rank, bool 
   if (collective) {
     s.halo = HaloExchange(d.part_n, s.halo_nodes);
     s.element_forces = HaloExchange(d.part_e, s.foreign_elements);
-    std::vector<Index> every_node(n), every_element(ne);
-    std::iota(every_node.begin(), every_node.end(), Index{0});
+    std::vector<Index> every_element(ne);
     std::iota(every_element.begin(), every_element.end(), Index{0});
-    s.all_nodes = HaloExchange(d.part_n, every_node);
     s.all_elements = HaloExchange(d.part_e, every_element);
     std::vector<int> node_part(nb);
     std::vector<Index> stepped_here;

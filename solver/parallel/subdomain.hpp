@@ -9,14 +9,15 @@
 //   its elements in the same order as on one process — each element computed once (computing
 //   them on every rank holding one of their nodes cost the Børvik shot's rank 0 5–8% more
 //   elements than its share);
-// - `all_nodes`: every node this rank does not own, before a checkpoint or a new cut;
-//   `all_elements`: every element it does not compute — their erosion flags (for the contact
+// - `all_elements`: every element it does not compute — their erosion flags (for the contact
 //   surfaces, a checkpoint and a new cut) and, at a new cut, each state field in turn;
 // - background particles (METHOD.md §4.1) are filled from their node by the node's rank, which
 //   holds the node's elements, and stepped in the particle phase by the particles' cut's rank
 //   (Decomposition::part_b): `background_filled` sends the filled rows to that rank,
 //   `background_returned` their pair and contact forces back to the node's rank before they join
 //   the node's force. Indexed by background particle.
+// The nodes are gathered (before a checkpoint or a new cut) by an exchange made when needed from
+// the decomposition's owners (HaloExchange::gather).
 // Every rank keeps the nodes' arrays and the elements' mesh fields in the model's numbering
 // (replicated; each rank writes only its share of them); of the elements' state it holds only
 // that of `elements` and `foreign_elements`, in that order (HexElements' slots). Verified by
@@ -38,7 +39,7 @@ struct Subdomain {
   std::vector<Index> foreign_elements; // other ranks' elements holding an owned node, ascending
   std::vector<Index> halo_nodes;       // nodes of `elements` owned elsewhere, ascending
   std::vector<Index> background;       // background particles of owned nodes: filled here
-  HaloExchange halo, element_forces, all_nodes, all_elements, background_filled,
+  HaloExchange halo, element_forces, all_elements, background_filled,
       background_returned;
 
   // Bytes this rank sent in the step's exchanges (the gathers for output not counted).

@@ -299,9 +299,9 @@ void ParticleSystem::read_also(std::span<const Index> rows) {
 }
 
 // With the last build's positions: a new cut or a restart lists its rows from them.
-void ParticleSystem::gather_state() {
+void ParticleSystem::gather_state(GatherTo to) {
   if (share_)
-    share_->all.refresh_by_field([this](auto visit) {
+    HaloExchange::gather(share_->owner, to).refresh_by_field([this](auto visit) {
       particles_.for_each_field(visit);
       search_.for_each_build_field(visit);
     });

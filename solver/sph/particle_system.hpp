@@ -67,9 +67,9 @@ public:
   // Particles that changed rank since the start (over all ranks).
   long long migrations() const { return migrations_; }
   // Every rank's particles (but the mirror images, which are each rank's own) and the last
-  // neighbour build's positions into this rank's arrays (before a checkpoint or a new cut);
-  // nothing on one process.
-  void gather_state();
+  // neighbour build's positions into the arrays of the ranks `to` names (before a checkpoint or
+  // a new cut); nothing on one process.
+  void gather_state(GatherTo to);
   // Per row: 1 for the rows this rank steps (all on one process: empty).
   std::span<const unsigned char> owned_rows() const;
   // The rows this rank steps, ascending; null on one process (all).

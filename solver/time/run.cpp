@@ -227,7 +227,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     a.value("run/next_history", next_history);
   };
   const auto checkpoint = [&] {
-    sim.gather_state();
+    sim.gather_state(GatherTo::writer);
     // Every rank takes part in the element fields' gathers (Simulation::persist); rank 0 writes.
     ending_the_job_on_error(decomposition.has_value(), [&] {
       if (writer) {

@@ -301,16 +301,16 @@ void Simulation::share_erosion() {
   eroded_shared_ = eroded;
 }
 
-void Simulation::gather_state() {
+void Simulation::gather_state(GatherTo to) {
   if (!subdomain_)
     return;
-  subdomain_->all_nodes.refresh_by_field([this](auto visit) { nodes_.for_each_field(visit); });
+  HaloExchange::gather(decomposition_.part_n, to).refresh_by_field([this](auto visit) {
+    nodes_.for_each_field(visit);
+  });
   subdomain_->all_elements.refresh(elements_.eroded_e);
-  // Their buffers are not needed until the next checkpoint or new cut; the particles' serve each
-  // neighbour-list rebuild.
-  subdomain_->all_nodes.release();
+  // Its buffers are not needed until the next checkpoint or new cut.
   subdomain_->all_elements.release();
-  particles_.gather_state();
+  particles_.gather_state(to);
 }
 
 void Simulation::step(double dt) {

@@ -86,11 +86,12 @@ public:
   // The contact springs' step as a fraction of their critical step 2/ω.
   static constexpr double contact_step_factor = 0.3;
   void step(double dt);
-  // A distributed run: every rank's share into this rank's arrays, so that a checkpoint (or a
-  // new decomposition) sees the whole state, as on one process — but for the elements' state
-  // fields, which stay in this rank's slots (HexElements) and which persist() gathers into the
-  // checkpoint one field at a time. Collective; nothing to do on one process.
-  void gather_state();
+  // A distributed run: every rank's share into the arrays of the ranks `to` names — rank 0 for
+  // a checkpoint, which it writes; every rank for a new decomposition — so that they see the
+  // whole state, as on one process, but for the elements' state fields, which stay in each
+  // rank's slots (HexElements) and which persist() gathers into the checkpoint one field at a
+  // time. The other ranks' arrays keep what they held. Collective; nothing to do on one process.
+  void gather_state(GatherTo to = GatherTo::every_rank);
   // A distributed run: when the decomposition's imbalance at the entities' current costs
   // (parallel/decomposition.hpp: current_costs of `reference`, the run's costs at t = 0; killed
   // particles and eroded elements cost nothing, a particle's neighbours are counted now, an
