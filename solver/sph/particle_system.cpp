@@ -261,6 +261,22 @@ void ParticleSystem::persist(StateArchive& a) {
 
 void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                                 bool attached_rows_listed_if_near, Migration migration) {
+  const bool cut_anew = share_ != nullptr;
+  if (cut_anew) { // the rows that change rank, whole from their old owner
+    auto& p = particles_;
+    const Index n = p.size();
+    const int me = ranks::rank();
+    std::vector<std::vector<Index>> moves(static_cast<std::size_t>(ranks::size()));
+    for (const Index k : share_->own) {
+      const int to = k < n ? owner_of_id[p.id_p[k]] : owner_of_background[k - n];
+      if (to != me)
+        moves[to].push_back(k);
+    }
+    HaloExchange::pushed(std::move(moves)).refresh_by_field([&p](auto visit) {
+      p.for_each_field(visit);
+    });
+    gather([this](auto visit) { search_.for_each_build_field(visit); }, GatherTo::every_rank);
+  }
   distributed_ = true;
   owner_of_id_ = std::move(owner_of_id);
   migration_ = std::move(migration);
@@ -275,6 +291,12 @@ void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> o
   relist(); // the last build's lists of the rows this rank now steps
   ++list_builds_;
   share();
+  if (cut_anew) { // the new halo whole: its rows were current where they were owned only
+    auto& p = particles_;
+    share_->halo.refresh_by_field([&p](auto visit) { p.for_each_field(visit); });
+    mirror_.refresh_motion(p, p.rows(), visible_rows());
+    mirror_.refresh_stress(p, p.rows(), visible_rows());
+  }
 }
 
 void ParticleSystem::share() {
@@ -300,11 +322,12 @@ void ParticleSystem::read_also(std::span<const Index> rows) {
 
 // With the last build's positions: a new cut or a restart lists its rows from them.
 void ParticleSystem::gather_state(GatherTo to) {
-  if (share_)
-    HaloExchange::gather(share_->owner, to).refresh_by_field([this](auto visit) {
-      particles_.for_each_field(visit);
-      search_.for_each_build_field(visit);
-    });
+  gather(
+      [this](auto visit) {
+        particles_.for_each_field(visit);
+        search_.for_each_build_field(visit);
+      },
+      to);
 }
 
 std::span<const unsigned char> ParticleSystem::owned_rows() const {

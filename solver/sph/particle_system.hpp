@@ -61,7 +61,9 @@ public:
   // lists are then of the rows this rank steps only, and, when `attached_rows_listed_if_near`,
   // of the attached rows within two list cutoffs of one of them (a coupling reads those: the
   // surface contact finds its candidates from its faces' corners). The first call of a system
-  // made `distributed` also makes its state at t = 0 (lists, kinematics, forces).
+  // made `distributed` also makes its state at t = 0 (lists, kinematics, forces); a later one (a
+  // new cut) moves each row that changes rank whole from its old rank, and lists the rows from
+  // the last build's positions, which every rank receives.
   void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                   bool attached_rows_listed_if_near, Migration migration = {});
   // Particles that changed rank since the start (over all ranks).
@@ -70,6 +72,13 @@ public:
   // neighbour build's positions into the arrays of the ranks `to` names (before a checkpoint or
   // a new cut); nothing on one process.
   void gather_state(GatherTo to);
+  // The fields for_each visits (for_each(visit) calls visit(name, field) per field; indexed by
+  // row, real and background), from each row's owner into the arrays of the ranks `to` names;
+  // nothing on one process. Collective.
+  template <class ForEach> void gather(ForEach for_each, GatherTo to) {
+    if (share_)
+      HaloExchange::gather(share_->owner, to).refresh_by_field(for_each);
+  }
   // Per row: 1 for the rows this rank steps (all on one process: empty).
   std::span<const unsigned char> owned_rows() const;
   // The rows this rank steps, ascending; null on one process (all).

@@ -161,11 +161,38 @@ void Simulation::take_share(Decomposition d, const Model& model) {
     halo_bytes_ += subdomain_->bytes_sent();
   const std::unique_ptr<Subdomain> before = std::move(subdomain_);
   subdomain_ = std::make_unique<Subdomain>(make_subdomain(d, model, ranks::rank()));
-  hold_element_state(before.get());
+  hold_element_state(*before, d);
+  // The nodes that change rank, each whole from its old owner.
+  const int me = ranks::rank();
+  std::vector<std::vector<Index>> moves(static_cast<std::size_t>(ranks::size()));
+  for (const Index i : before->nodes)
+    if (d.part_n[i] != me)
+      moves[d.part_n[i]].push_back(i);
+  HaloExchange::pushed(std::move(moves)).refresh_by_field([this](auto visit) {
+    nodes_.for_each_field(visit);
+  });
   particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows(),
                         migration(d));
   decomposition_ = std::move(d);
 }
+
+namespace {
+
+// An element state field during a new cut, by element: read from the old slots of the elements
+// this rank computed (the first `old_own` slots), written into the new slots of the others.
+template <class T> struct CutSlots {
+  std::vector<T>& old_values;
+  const std::vector<Index>& old_slot;
+  Index old_own;
+  std::vector<T>& new_values;
+  const std::vector<Index>& new_slot;
+  T& operator[](Index k) const {
+    const Index s = old_slot[k];
+    return s >= 0 && s < old_own ? old_values[s] : new_values[new_slot[k]];
+  }
+};
+
+} // namespace
 
 template <class WholeOf> void Simulation::cut_element_state(WholeOf whole_of) {
   auto& e = elements_;
@@ -185,15 +212,39 @@ template <class WholeOf> void Simulation::cut_element_state(WholeOf whole_of) {
     e.slot_e[held[s]] = static_cast<Index>(s);
 }
 
-void Simulation::hold_element_state(Subdomain* before) {
+void Simulation::hold_element_state(const Subdomain& before, const Decomposition& d) {
   auto& e = elements_;
-  cut_element_state([&](auto& field) {
-    std::remove_reference_t<decltype(field)> whole(static_cast<std::size_t>(e.size()));
-    for (const Index k : before->elements)
-      whole[k] = field[e.slot(k)];
-    before->all_elements.refresh(whole);
-    return whole;
+  const int me = ranks::rank();
+  std::vector<Index> held = subdomain_->elements;
+  held.insert(held.end(), subdomain_->foreign_elements.begin(), subdomain_->foreign_elements.end());
+  std::vector<Index> slot(static_cast<std::size_t>(e.size()), -1);
+  for (std::size_t s = 0; s < held.size(); ++s)
+    slot[held[s]] = static_cast<Index>(s);
+  // Each element this rank computed goes to the ranks holding it now: the one computing it and
+  // those owning one of its nodes.
+  std::vector<std::vector<Index>> sends(static_cast<std::size_t>(ranks::size()));
+  for (const Index k : before.elements) {
+    std::array<int, 9> holders;
+    holders[0] = d.part_e[k];
+    for (int I = 0; I < 8; ++I)
+      holders[I + 1] = d.part_n[e.nodes_e[k][I]];
+    std::ranges::sort(holders);
+    for (int I = 0; I < 9; ++I)
+      if (holders[I] != me && (I == 0 || holders[I] != holders[I - 1]))
+        sends[holders[I]].push_back(k);
+  }
+  HaloExchange moves = HaloExchange::pushed(std::move(sends));
+  const auto old_own = static_cast<Index>(before.elements.size());
+  e.for_each_state_field([&](const char*, auto& field) {
+    std::remove_reference_t<decltype(field)> mine(held.size());
+    for (std::size_t s = 0; s < held.size(); ++s)
+      if (const Index was = e.slot_e[held[s]]; was >= 0 && was < old_own)
+        mine[s] = field[was];
+    CutSlots view{field, e.slot_e, old_own, mine, slot};
+    moves.refresh(view);
+    field.swap(mine);
   });
+  e.slot_e = std::move(slot);
 }
 
 Simulation::HaloShare Simulation::halo_share() const {
@@ -248,9 +299,21 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
     return r;
   if (!new_cut_pays(phases, steps_ - last_cut_step_, model.x_p.size() + model.hex_e.size()))
     return r;
-  // The costs now, by model entity (through id_p: a row's own id but in an old checkpoint), from
-  // the whole state; whether an element yields, from the rank computing it.
-  gather_state();
+  // What the bisection reads of every entity, from its owner: a particle's position, neighbour
+  // count, kill state and whether it yields; a node's position; an element's erosion and
+  // whether it yields. By model entity (through id_p: a row's own id but in an old checkpoint).
+  // The rest of the state moves only with a new cut (take_share).
+  Particles& rows = particles_.particles();
+  std::vector<unsigned char> yielding_row(static_cast<std::size_t>(p.rows()), 0);
+  for (Index k = 0; k < real.count; ++k)
+    yielding_row[real[k]] = yields_p(real[k]);
+  particles_.gather(
+      [&](auto visit) {
+        visit("x_p", rows.x_p), visit("neighbours_p", rows.neighbours_p);
+        visit("kill_p", rows.kill_p), visit("yielding", yielding_row);
+      },
+      GatherTo::every_rank);
+  HaloExchange::gather(decomposition_.part_n, GatherTo::every_rank).refresh(nodes_.x_n);
   const Index np = p.size(), ne = e.size();
   std::vector<int> neighbours(static_cast<std::size_t>(np));
   std::vector<unsigned char> live_p(static_cast<std::size_t>(np)), live_e(ne);
@@ -258,10 +321,11 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   for (Index i = 0; i < np; ++i) {
     neighbours[p.id_p[i]] = p.neighbours_p[i];
     live_p[p.id_p[i]] = p.kill_p[i] != Kill::Tension;
-    yielding_p[p.id_p[i]] = yields_p(i);
+    yielding_p[p.id_p[i]] = yielding_row[i];
   }
   for (const Index k : subdomain_->elements)
     yielding_e[k] = yields_e(k);
+  subdomain_->all_elements.refresh(elements_.eroded_e);
   subdomain_->all_elements.refresh(yielding_e);
   subdomain_->all_elements.release();
   for (Index k = 0; k < ne; ++k)

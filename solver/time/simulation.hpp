@@ -87,7 +87,7 @@ public:
   static constexpr double contact_step_factor = 0.3;
   void step(double dt);
   // A distributed run: every rank's share into the arrays of the ranks `to` names — rank 0 for
-  // a checkpoint, which it writes; every rank for a new decomposition — so that they see the
+  // a checkpoint, which it writes; every rank for the energy guard's message — so that they see the
   // whole state, as on one process, but for the elements' state fields, which stay in each
   // rank's slots (HexElements) and which persist() gathers into the checkpoint one field at a
   // time. The other ranks' arrays keep what they held. Collective; nothing to do on one process.
@@ -96,13 +96,14 @@ public:
   // (parallel/decomposition.hpp: current_costs of `reference`, the run's costs at t = 0; killed
   // particles and eroded elements cost nothing, a particle's neighbours are counted now, an
   // entity whose material point yields costs its return; each rank sums its own) exceeds
-  // `threshold`, the state is gathered and the entities decomposed where they are now, each rank
-  // taking its share of the whole state. The per-entity arithmetic is the same under any
-  // decomposition and the sums are exact, so the run stays the single process's bit for bit.
-  // No cut is made when evening the ranks out would not pay for it over as many steps as the
-  // current cut has served (parallel/decomposition.hpp: new_cut_pays), checked before anything
-  // is gathered; kept when the new one would not be better. Collective; nothing to do on one
-  // process.
+  // `threshold`, every rank learns where each entity is and what it costs, and the entities are
+  // decomposed where they are now; each particle row, node and element state that changes rank
+  // then goes whole from its old rank to its new ones (the state is not gathered). The per-entity
+  // arithmetic is the same under any decomposition and the sums are exact, so the run stays the
+  // single process's bit for bit. No cut is made when evening the ranks out would not pay for it
+  // over as many steps as the current cut has served (parallel/decomposition.hpp: new_cut_pays),
+  // checked before anything is gathered; kept when the new one would not be better. Collective;
+  // nothing to do on one process.
   Rebalance rebalance(const Model& model, const EntityCosts& reference, double threshold);
   // Bytes this rank has sent to refresh other ranks' halos (0 on one process).
   long long halo_bytes() const;
@@ -181,17 +182,18 @@ private:
   // merge is one rank's. (A background particle is stepped by the particles' cut — its pair
   // loops are particle-phase work — and filled by its node's rank.)
   Decomposition tied(Decomposition d) const;
-  // This rank's share of a new cut `d`, tied. Collective.
+  // This rank's share of a new cut `d`, tied, and the state that changes rank with it.
+  // Collective.
   void take_share(Decomposition d, const Model& model);
   ParticleSystem::Migration migration(const Decomposition& d) const;
   // The elements' reference state (t = 0) in the slots of this rank's share (all on one
   // process). The background particles' first fill has read V_e, S_e and p_e whole; they are
   // cut to the share here.
   void reference_state();
-  // The elements' state fields into the slots of the current share (HexElements) from those of
-  // the share it replaces, `before` (a new cut): each field gathered whole, one at a time, from
-  // the ranks that computed it. Collective.
-  void hold_element_state(Subdomain* before);
+  // The elements' state fields into the slots of the current share of `d` (HexElements) from
+  // those of the share it replaces, `before` (a new cut): each element's from the rank that
+  // computed it, one field at a time. Collective.
+  void hold_element_state(const Subdomain& before, const Decomposition& d);
   // Each state field, given whole by element by whole_of(field) (skipped when that is empty),
   // cut to the slots of this rank's share: its elements, then the others' at its nodes.
   template <class WholeOf> void cut_element_state(WholeOf whole_of);

@@ -242,8 +242,15 @@ TEST(MpiLaunch, ElasticBarOnTwoAndThreeRanksIsTheOneProcessRun) {
 TEST(MpiLaunch, ErodingBarOnTwoAndThreeRanksIsTheOneProcessRun) {
   const sphfem::test::Scratch scratch("mpi_eroding_bar_case");
   const fs::path case_file = write_case(scratch.dir, "eroding_bar", eroding_bar);
-  const auto one = expect_ranks_repeat_one_process(case_file.string(), "mpi_eroding_bar");
+  // Shared anew as the bar yields and erodes (a threshold low enough to do so at 2 and 3
+  // ranks): each element's stress, plastic strain and damage go to its new ranks with it.
+  Shares shares;
+  const auto one = expect_ranks_repeat_one_process(case_file.string(), "mpi_eroding_bar",
+                                                   " --rebalance 1.001", &shares);
   EXPECT_GT(one["bodies"]["bar"]["eroded_elements"].get<int>(), 0); // the test erodes
+  ASSERT_EQ(shares.rebalances.size(), 2u);
+  EXPECT_GT(shares.rebalances[0], 0) << "2 ranks";
+  EXPECT_GT(shares.rebalances[1], 0) << "3 ranks";
 }
 
 TEST(MpiLaunch, ElasticParticleBarOnTwoAndThreeRanksIsTheOneProcessRun) {
