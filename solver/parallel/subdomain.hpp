@@ -10,7 +10,8 @@
 //   them on every rank holding one of their nodes cost the Børvik shot's rank 0 5–8% more
 //   elements than its share);
 // - `all_elements`: every element it does not compute — their erosion flags (for the contact
-//   surfaces, a checkpoint and a new cut) and, at a new cut, each state field in turn;
+//   surfaces, a checkpoint and a new cut) and, at a new cut, whether they yield (their state
+//   goes to their new ranks alone: Simulation::take_share);
 // - background particles (METHOD.md §4.1) are filled from their node by the node's rank, which
 //   holds the node's elements, and stepped in the particle phase by the particles' cut's rank
 //   (Decomposition::part_b): `background_filled` sends the filled rows to that rank,
@@ -39,8 +40,7 @@ struct Subdomain {
   std::vector<Index> foreign_elements; // other ranks' elements holding an owned node, ascending
   std::vector<Index> halo_nodes;       // nodes of `elements` owned elsewhere, ascending
   std::vector<Index> background;       // background particles of owned nodes: filled here
-  HaloExchange halo, element_forces, all_elements, background_filled,
-      background_returned;
+  HaloExchange halo, element_forces, all_elements, background_filled, background_returned;
 
   // Bytes this rank sent in the step's exchanges (the gathers for output not counted).
   long long bytes_sent() const {
