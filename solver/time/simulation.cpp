@@ -191,6 +191,9 @@ template <class T> struct CutSlots {
     return s >= 0 && s < old_own ? old_values[s] : new_values[new_slot[k]];
   }
 };
+template <class T>
+CutSlots(std::vector<T>&, const std::vector<Index>&, Index, std::vector<T>&,
+         const std::vector<Index>&) -> CutSlots<T>;
 
 } // namespace
 
