@@ -328,8 +328,7 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   }
   for (const Index k : subdomain_->elements)
     yielding_e[k] = yields_e(k);
-  subdomain_->all_elements.refresh(elements_.eroded_e);
-  subdomain_->all_elements.refresh(yielding_e);
+  subdomain_->all_elements.refresh(elements_.eroded_e, yielding_e);
   subdomain_->all_elements.release();
   for (Index k = 0; k < ne; ++k)
     live_e[k] = e.eroded_e[k] == 0;
