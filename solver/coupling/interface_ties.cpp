@@ -33,6 +33,8 @@ void InterfaceTies::merge(Particles& p, Nodes& nodes,
                           const std::function<Index(Index)>& index_of) const {
   for (Index k = 0; k < size(); ++k) {
     const Index i = index_of(particle_ids_[k]), node = nodes_[k];
+    if (i < 0)
+      continue; // a distributed run's rank not holding the particle (nor stepping the node)
     const double m_p = p.m_p[i], m_n = nodes.m_n[node];
     const Vec3 v = (m_p * p.v_p[i] + m_n * nodes.v_n[node]) / (m_p + m_n);
     p.v_p[i] = nodes.v_n[node] = v;
@@ -43,6 +45,8 @@ void InterfaceTies::follow(Particles& p, const Nodes& nodes,
                            const std::function<Index(Index)>& index_of) const {
   for (Index k = 0; k < size(); ++k) {
     const Index i = index_of(particle_ids_[k]);
+    if (i < 0)
+      continue;
     p.v_p[i] = nodes.v_n[nodes_[k]];
     p.xsph_p[i].setZero();
   }

@@ -33,7 +33,8 @@ public:
   Index node(Index k) const { return nodes_[k]; }
 
   // After the kicks: particle and node take their momentum-weighted mean velocity.
-  // index_of maps a particle id (model.h5 order) to its current index.
+  // index_of maps a particle id (model.h5 order) to its current index, −1 for a particle not held
+  // (a distributed run's rank: a tie's particle is held where its node is stepped).
   void merge(Particles& p, Nodes& nodes, const std::function<Index(Index)>& index_of) const;
   // After the node constraints: the particle takes the node's velocity and no XSPH shift.
   void follow(Particles& p, const Nodes& nodes, const std::function<Index(Index)>& index_of) const;

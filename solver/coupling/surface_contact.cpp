@@ -502,11 +502,24 @@ ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) co
   });
 }
 
+void SurfaceContact::follow_background_rows(Index real) {
+  const Index shift = real - real_;
+  for (Face& face : faces_)
+    for (Index& row : face.rows)
+      row += shift;
+  for (Index& row : row_of_node_)
+    if (row >= 0)
+      row += shift;
+  real_ = real;
+}
+
 ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, long long lists,
                                     const HexElements& elements, double dt,
                                     const ContactRanks* ranks) {
   if (pairs_.empty())
     return {};
+  if (p.real != real_)
+    follow_background_rows(p.real);
   if (eroded_seen_ < 0 || eroded_count(elements) != eroded_seen_)
     build_faces(p, elements);
   if (built_for_ != lists) {

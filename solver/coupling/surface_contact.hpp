@@ -131,6 +131,10 @@ private:
   // node on the live surface of such a body.
   bool slave(const Particles& p, Index i) const;
   void build_faces(const Particles& p, const HexElements& elements);
+  // The background rows now start at `real` (a distributed run's rank lays its real particles'
+  // rows anew at each neighbour list): the faces' rows shift with them; the candidates, found
+  // from each new list, are found again.
+  void follow_background_rows(Index real);
   void build_candidates(Particles& p, const NeighbourList& list);
   // The slaves this rank evaluates, and the rows they read added to the halo (collective).
   void share(const Particles& p, const ContactRanks& ranks);

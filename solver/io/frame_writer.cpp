@@ -186,7 +186,7 @@ FrameWriter::FrameWriter(const std::filesystem::path& out_dir, const HexElements
                          const Particles& particles, std::vector<Material> materials)
     : out_dir_(out_dir), materials_(std::move(materials)) {
   std::filesystem::create_directories(out_dir_ / "frames");
-  if (particles.size() > 0) {
+  if (particles.size() > 0 || particles.model_real > 0) { // a distributed rank may hold none
     cloud_ = std::make_unique<Cloud>();
     auto& c = *cloud_;
     c.points->SetDataTypeToDouble();

@@ -52,6 +52,15 @@ public:
   // The same, one message per field and pair of ranks through buffers of one field's size.
   // Collective.
   template <class ForEach> void refresh_by_field(ForEach for_each);
+  // Renumbers the lists from the numbers every rank shares to this rank's own slots
+  // (slot_of(number)): for entities each rank lays out its own way, such as a distributed run's
+  // particle rows. Built on the shared numbers, the lists pair up on both sides in that order.
+  template <class SlotOf> void to_slots(SlotOf slot_of) {
+    for (auto* lists : {&send_, &receive_})
+      for (auto& list : *lists)
+        for (Index& i : list)
+          i = slot_of(i);
+  }
   // Frees the message buffers (kept between refreshes otherwise, so that a step allocates
   // nothing): after a gather that is not repeated soon.
   void release();

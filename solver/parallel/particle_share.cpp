@@ -19,20 +19,29 @@ void add_visible_images(ParticleShare& s, const MirrorParticles& mirrors, Index 
       s.visible.push_back(rows + k);
 }
 
+// The exchange refreshing `halo_rows`, agreed on the shared numbers, in this rank's rows.
+HaloExchange halo_exchange(std::span<const Index> halo_rows, std::span<const int> owner,
+                           const RowNumbering& numbering) {
+  std::vector<Index> numbers(halo_rows.size());
+  std::ranges::transform(halo_rows, numbers.begin(), [&](Index k) { return numbering.number(k); });
+  HaloExchange h(owner, numbers);
+  h.to_slots([&](Index number) { return numbering.row(number); });
+  return h;
+}
+
 } // namespace
 
 ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
-                                  const MirrorParticles& mirrors, std::span<const int> owner_of_id,
-                                  std::span<const int> owner_of_background, int rank,
-                                  bool collective) {
-  const Index n = p.size(), rows = p.rows(), total = p.total();
-  SPHFEM_CHECK(owner_of_background.size() == static_cast<std::size_t>(p.background),
-               "particle share: ", owner_of_background.size(), " owners for ", p.background,
-               " background rows (internal error)");
+                                  const MirrorParticles& mirrors, std::span<const int> owner,
+                                  const RowNumbering& numbering, int rank, bool collective) {
+  const Index rows = p.rows(), total = p.total();
+  SPHFEM_CHECK(owner.size() == static_cast<std::size_t>(numbering.model() + p.background),
+               "particle share: ", owner.size(), " owners for ", numbering.model(),
+               " particles and ", p.background, " background rows (internal error)");
   ParticleShare s;
   s.owner.resize(rows);
   for (Index k = 0; k < rows; ++k)
-    s.owner[k] = k < n ? owner_of_id[p.id_p[k]] : owner_of_background[k - n];
+    s.owner[k] = owner[numbering.number(k)];
   // A mirror image is made here from its source row.
   const auto row_of = [&](Index j) { return j < rows ? j : mirrors.source(j - rows); };
   s.owns.assign(total, 0);
@@ -59,11 +68,12 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
   add_visible_images(s, mirrors, rows);
   if (!collective)
     return s;
-  s.halo = HaloExchange(s.owner, s.halo_rows);
+  s.halo = halo_exchange(s.halo_rows, owner, numbering);
   return s;
 }
 
-bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows) {
+bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows,
+               std::span<const int> owner, const RowNumbering& numbering) {
   std::vector<Index> added;
   for (const Index i : rows)
     if (!s.owns[i] && !std::ranges::binary_search(s.halo_rows, i))
@@ -79,7 +89,7 @@ bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const
   std::ranges::merge(s.own, s.halo_rows, merged.begin());
   s.visible = std::move(merged);
   add_visible_images(s, mirrors, static_cast<Index>(s.owner.size()));
-  s.halo = HaloExchange(s.owner, s.halo_rows);
+  s.halo = halo_exchange(s.halo_rows, owner, numbering);
   return true;
 }
 
@@ -90,9 +100,10 @@ RowBox::RowBox(std::span<const Vec3> x, std::span<const Index> own) {
   }
 }
 
-std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Index> own,
-                                                const RowBox& box, const MirrorParticles& mirrors,
-                                                double margin, double image_reach) {
+std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Vec3> x,
+                                                std::span<const Index> own, const RowBox& box,
+                                                const MirrorParticles& mirrors, double margin,
+                                                double image_reach) {
   const std::array<double, 6> corners{box.lo.x(), box.lo.y(), box.lo.z(),
                                       box.hi.x(), box.hi.y(), box.hi.z()};
   const std::vector<double> all = ranks::gather_all(corners);
@@ -106,13 +117,12 @@ std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<co
   for (const Index i : own) {
     if (i >= p.rows())
       break;
-    const std::vector<Vec3> images = mirrors.empty()
-                                         ? std::vector<Vec3>{}
-                                         : mirrors.images_of(p.x_p[i], p.group_p[i], image_reach);
+    const std::vector<Vec3> images =
+        mirrors.empty() ? std::vector<Vec3>{} : mirrors.images_of(x[i], p.group_p[i], image_reach);
     for (int r = 0; r < n; ++r) {
       if (r == me)
         continue;
-      bool near = boxes[r].near(p.x_p[i], margin);
+      bool near = boxes[r].near(x[i], margin);
       for (const Vec3& image : images)
         near = near || boxes[r].near(image, margin);
       if (near)

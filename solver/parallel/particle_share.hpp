@@ -9,18 +9,21 @@
 //   after the material update what it changed (for_each_updated_field: density, stress, kill
 //   state and the rest that the forces read), so that no rank repeats another's material update;
 //   each carries what the owners wrote since the other (together a third of a row's bytes).
-// A gather of every row (before a checkpoint or a new cut) is made when needed from `owner`
-// (HaloExchange::gather).
 // Mirror images are a rank's own: those of the rows it bins at a rebuild (below), numbered in
 // their sources' order; it refreshes each step only those of its visible rows (`visible`), the
 // only ones its rows read.
-// Rebuilt with each neighbour list. The arrays keep the one-process layout on every rank.
+// Rebuilt with each neighbour list.
+//
+// A rank holds the rows it owns and those near them only (RowNumbering): its real particles'
+// rows in model-id order, then every background row, then its mirror images. The exchanges are
+// agreed on the numbers every rank shares and then renumbered to each side's rows
+// (HaloExchange::to_slots).
 //
 // A rebuild needs, on each rank, every row within reach of its own — their positions and
 // smoothing lengths only: `rows_near_ranks` names, for each rank, the rows of this rank within
 // `margin` of the other's own rows' bounding box, or with a mirror image there; the owners
-// send them (HaloExchange::pushed). That rank then bins its own rows and those, and lists its
-// own rows exactly as one process would.
+// send them (HaloExchange::pushed). That rank then holds and bins its own rows and those, and
+// lists its own rows exactly as one process would.
 // Verified by tests/parallel/decomposition_test.cpp and tests/e2e/mpi_launch_test.cpp.
 #pragma once
 
@@ -35,6 +38,20 @@
 
 namespace sphfem {
 
+// How a rank's rows map to the numbers every rank shares: a real particle's is its model id, the
+// background row k's the model's particle count + k.
+struct RowNumbering {
+  std::span<const Index> id_of_row; // per row: a real particle's model id
+  std::span<const Index> row_of_id; // per model particle: its row here, −1 when not held here
+  Index real = 0;                   // real particles' rows here (background rows follow)
+
+  Index model() const { return static_cast<Index>(row_of_id.size()); }
+  Index number(Index row) const { return row < real ? id_of_row[row] : model() + (row - real); }
+  Index row(Index number) const {
+    return number < model() ? row_of_id[number] : real + (number - model());
+  }
+};
+
 struct ParticleShare {
   std::vector<int> owner;          // per row (real and background): the owning rank
   std::vector<unsigned char> owns; // per row of all (mirror images: their source's)
@@ -44,17 +61,17 @@ struct ParticleShare {
   HaloExchange halo;
 };
 
-// owner_of_id: the rank of each model particle; owner_of_background: of each background row in
-// the particle phase. Collective when `collective`.
+// owner: the rank of each shared number (RowNumbering: model particles, then background rows).
+// Collective when `collective`.
 ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
-                                  const MirrorParticles& mirrors, std::span<const int> owner_of_id,
-                                  std::span<const int> owner_of_background, int rank,
-                                  bool collective = true);
+                                  const MirrorParticles& mirrors, std::span<const int> owner,
+                                  const RowNumbering& numbering, int rank, bool collective = true);
 
 // Adds `rows` (any order; own rows and rows already read are skipped) to the halo, and their
 // images to the visible rows; false, and nothing changed, when no rank has rows to add.
 // Collective.
-bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows);
+bool read_also(ParticleShare& s, const MirrorParticles& mirrors, std::span<const Index> rows,
+               std::span<const int> owner, const RowNumbering& numbering);
 
 // The bounding box of the rows `own` lists (empty: lo > hi).
 struct RowBox {
@@ -67,11 +84,12 @@ struct RowBox {
   }
 };
 
-// Per rank: the rows among `own` (this rank's, ascending; `box` theirs) within `margin` of that
-// rank's own rows' box, or with a mirror image there (images within `image_reach` of a plane).
-// Empty for this rank. Collective: the ranks' boxes are exchanged.
-std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Index> own,
-                                                const RowBox& box, const MirrorParticles& mirrors,
-                                                double margin, double image_reach);
+// Per rank: the rows among `own` (this rank's, ascending; `box` theirs) at `x` (positions per
+// row) within `margin` of that rank's own rows' box, or with a mirror image there (images within
+// `image_reach` of a plane). Empty for this rank. Collective: the ranks' boxes are exchanged.
+std::vector<std::vector<Index>> rows_near_ranks(const Particles& p, std::span<const Vec3> x,
+                                                std::span<const Index> own, const RowBox& box,
+                                                const MirrorParticles& mirrors, double margin,
+                                                double image_reach);
 
 } // namespace sphfem

@@ -241,13 +241,6 @@ void NeighbourSearch::free_lists() {
   half_ = HalfLists();
 }
 
-void NeighbourSearch::persist(StateArchive& a) {
-  a.array("neighbours/x_build", x_build_);
-  a.array("neighbours/h_build", h_build_);
-  a.value("neighbours/skin", skin_);
-  a.value("neighbours/built", built_);
-}
-
 // The rows listed and the cells whose half rows their lists need: those within search_reach
 // cells of a listed point's along each axis (a listed row's pairs lie there, and each pair is
 // found from the lower of its two cells). Rows `if_near` marks are listed when within

@@ -23,6 +23,7 @@
 #include <array>
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace sphfem {
@@ -122,8 +123,18 @@ public:
 
   // Checkpoint: the build-time positions, smoothing lengths and skin, and whether built. After
   // reading, the caller builds the lists from them (a build is deterministic: the very lists of
-  // that build).
-  void persist(StateArchive& a);
+  // that build). persist_through passes the arrays through array(name, field) instead (a
+  // distributed run writes every rank's rows).
+  void persist(StateArchive& a) {
+    persist_through(a, [&a](const std::string& name, auto& field) { a.array(name, field); });
+  }
+  template <class Array> void persist_through(StateArchive& a, Array array) {
+    for_each_build_field([&array](const char* name, auto& field) {
+      array(std::string("neighbours/") + name, field);
+    });
+    a.value("neighbours/skin", skin_);
+    a.value("neighbours/built", built_);
+  }
   // Frees the lists' memory (before a build that lists fewer rows than the last).
   void free_lists();
 

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <string_view>
 
 namespace sphfem {
 
@@ -22,7 +24,7 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
   SPHFEM_CHECK(attached == 0 || attach, "attached rows need their filler (internal error)");
   const std::vector<int> group = c.body_groups();
   auto& p = particles_;
-  p.real = n;
+  p.real = p.model_real = n;
   p.background = attached;
   p.for_each_field([total](const char*, auto& field) { field.resize(total); });
   for (Index i = 0; i < n; ++i) {
@@ -60,19 +62,14 @@ void ParticleSystem::start() {
 }
 
 // Twice the largest real particle's h of `h` (a distributed run's rows are current on their
-// owner: the largest over the ranks, unless `whole`), plus the skin: how near a plane a row gets
-// mirror images.
-double ParticleSystem::mirror_reach(std::span<const double> h, bool whole) const {
+// owner: the largest over the ranks), plus the skin: how near a plane a row gets mirror images.
+double ParticleSystem::mirror_reach(std::span<const double> h) const {
   double largest_h = 0;
-  if (share_ && !whole) {
-    for (const Index i : own_real_rows())
+  const int rank = distributed_ ? ranks::rank() : 0;
+  for (Index i = 0; i < particles_.size(); ++i)
+    if (!distributed_ || row_owner(i) == rank)
       largest_h = std::max(largest_h, h[i]);
-    largest_h = ranks::max(largest_h);
-  } else {
-    for (Index i = 0; i < particles_.size(); ++i)
-      largest_h = std::max(largest_h, h[i]);
-  }
-  return 2.0 * largest_h + skin_;
+  return 2.0 * (distributed_ ? ranks::max(largest_h) : largest_h) + skin_;
 }
 
 // The images of the rows at x (those binned_ marks, else all) within reach of a plane; the
@@ -102,8 +99,8 @@ void ParticleSystem::place_mirrors(std::span<const Vec3> x, double reach) {
 void ParticleSystem::rebuild() {
   auto& p = particles_;
   if (distributed_)
-    receive_neighbourhood();
-  place_mirrors(p.x_p, mirror_.empty() ? 0.0 : mirror_reach(p.h_p, false));
+    receive_neighbourhood(false);
+  place_mirrors(p.x_p, mirror_.empty() ? 0.0 : mirror_reach(p.h_p));
   mark_listed();
   search_.build(p.x_p, p.h_p, skin_, listed());
   ++rebuilds_;
@@ -112,29 +109,61 @@ void ParticleSystem::rebuild() {
 
 // The positions and smoothing lengths of the rows that a rebuild's lists of this rank's rows can
 // hold, from their owners: the rows within a cutoff C = 2 max h + skin of its own rows' box, or
-// with a mirror image there; marks them and its own rows in binned_. With the surface contact,
-// the lists of some background rows too (coupling/contact.hpp): a slave evaluated here lies
-// within C of a corner of a face with an own corner, its other faces' corners within C of it,
-// and a face spans less than 2C (at most 2.5 h of its corners: the contact's stretch allowance),
-// so every corner it reads lies within 4C of an own row. near_if_listed_ marks the background
-// rows within 4C of the box, and the rows within 5C are binned: their lists are whole here.
-void ParticleSystem::receive_neighbourhood() {
+// with a mirror image there; the rows laid as its own and those, marked in binned_. With the
+// surface contact, the lists of some background rows too (coupling/contact.hpp): a slave
+// evaluated here lies within C of a corner of a face with an own corner, its other faces' corners
+// within C of it, and a face spans less than 2C (at most 2.5 h of its corners: the contact's
+// stretch allowance), so every corner it reads lies within 4C of an own row. near_if_listed_
+// marks the background rows within 4C of the box, and the rows within 5C are binned: their
+// lists are whole here. At a new cut or a checkpoint read (`at_build`) all this at the last
+// build's positions and smoothing lengths, which travel too.
+void ParticleSystem::receive_neighbourhood(bool at_build) {
   auto& p = particles_;
-  const Index n = p.size(), rows = p.rows();
   const int rank = ranks::rank();
-  std::vector<Index> own; // now (particles may have migrated since the share)
-  for (Index k = 0; k < rows; ++k)
-    if (row_owner(k) == rank)
-      own.push_back(k);
+  const auto positions = [&] {
+    return at_build ? search_.build_positions() : std::span<const Vec3>(p.x_p);
+  };
+  const auto own_rows = [&] {
+    std::vector<Index> own; // now (particles may have migrated since the share)
+    for (Index k = 0; k < p.rows(); ++k)
+      if (row_owner(k) == rank)
+        own.push_back(k);
+    return own;
+  };
+  std::vector<Index> own = own_rows();
+  const std::span<const double> h =
+      at_build ? search_.build_smoothing_lengths() : std::span<const double>(p.h_p);
   double largest_h = 0;
   for (const Index i : own)
-    largest_h = std::max(largest_h, p.h_p[i]);
+    largest_h = std::max(largest_h, h[i]);
   const double cutoff = 2 * ranks::max(largest_h) + skin_;
   const double margin = (attached_rows_listed_if_near_ ? 5 : 1) * cutoff;
-  const RowBox box(p.x_p, own);
-  HaloExchange near = HaloExchange::pushed(rows_near_ranks(p, own, box, mirror_, margin, cutoff));
-  near.refresh_each([&p](auto visit) { p.for_each_listed_field(visit); });
+  std::vector<std::vector<Index>> sends =
+      rows_near_ranks(p, positions(), own, RowBox(positions(), own), mirror_, margin, cutoff);
+  const RowNumbering numbers = numbering();
+  std::vector<Index> ids;
+  for (const Index i : own)
+    if (i < p.size())
+      ids.push_back(p.id_p[i]);
+  for (auto& list : sends)
+    for (Index& k : list)
+      k = numbers.number(k);
+  HaloExchange near = HaloExchange::pushed(std::move(sends));
+  for (const auto& from : near.receives())
+    for (const Index number : from)
+      if (number < numbers.model())
+        ids.push_back(number);
+  std::ranges::sort(ids);
+  lay_rows(ids);
+  near.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
+  near.refresh_each([&](auto visit) {
+    p.for_each_listed_field(visit);
+    if (at_build)
+      search_.for_each_build_field(visit);
+  });
   halo_bytes_ += near.bytes_sent();
+  const Index n = p.size(), rows = p.rows();
+  own = own_rows();
   binned_.assign(rows, 0);
   for (const Index i : own)
     binned_[i] = 1;
@@ -143,9 +172,39 @@ void ParticleSystem::receive_neighbourhood() {
       binned_[i] = 1;
   near_if_listed_.clear();
   if (attached_rows_listed_if_near_) {
+    const RowBox box(positions(), own);
     near_if_listed_.assign(rows, 0);
     for (Index k = n; k < rows; ++k)
-      near_if_listed_[k] = binned_[k] && box.near(p.x_p[k], 4 * cutoff);
+      near_if_listed_[k] = binned_[k] && box.near(positions()[k], 4 * cutoff);
+  }
+}
+
+void ParticleSystem::lay_rows(const std::vector<Index>& ids) {
+  auto& p = particles_;
+  const Index real = static_cast<Index>(ids.size()), rows = real + p.background;
+  std::vector<Index> from(static_cast<std::size_t>(rows)); // the row now, −1 for none
+  for (Index k = 0; k < real; ++k)
+    from[k] = index_of_id_[ids[k]];
+  for (Index b = 0; b < p.background; ++b)
+    from[real + b] = p.real + b;
+  const auto lay = [&from](const char*, auto& field) {
+    if (field.empty())
+      return; // a search not built yet
+    std::remove_reference_t<decltype(field)> laid(from.size());
+    for (std::size_t k = 0; k < from.size(); ++k)
+      if (from[k] >= 0)
+        laid[k] = field[from[k]];
+    field.swap(laid);
+  };
+  for (Index k = 0; k < p.real; ++k)
+    index_of_id_[p.id_p[k]] = -1;
+  p.for_each_field(lay);
+  search_.for_each_build_field(lay);
+  p.real = real;
+  p.mirrored_real = 0;
+  for (Index k = 0; k < real; ++k) {
+    p.id_p[k] = ids[k];
+    index_of_id_[ids[k]] = k;
   }
 }
 
@@ -168,33 +227,48 @@ void ParticleSystem::migrate() {
     const int to = migration_.owner_at(p.x_p[i], rank, slack);
     if (to == rank)
       continue;
-    moves[to].push_back(i);
+    moves[to].push_back(id);
     moved.insert(moved.end(), {id, to});
   }
   const std::vector<Index> all = ranks::gather_all_varying(moved);
   if (all.empty())
     return;
-  HaloExchange rows = HaloExchange::pushed(std::move(moves));
-  rows.refresh_by_field([&p](auto visit) { p.for_each_field(visit); });
-  halo_bytes_ += rows.bytes_sent();
+  hand_over(std::move(moves));
   for (std::size_t k = 0; k < all.size(); k += 2)
-    owner_of_id_[all[k]] = static_cast<int>(all[k + 1]);
+    owner_[all[k]] = static_cast<int>(all[k + 1]);
   migrations_ += static_cast<long long>(all.size() / 2);
 }
 
+void ParticleSystem::hand_over(std::vector<std::vector<Index>> numbers) {
+  auto& p = particles_;
+  HaloExchange rows = HaloExchange::pushed(std::move(numbers));
+  std::vector<Index> ids(p.id_p.begin(), p.id_p.begin() + p.real);
+  const Index model = static_cast<Index>(index_of_id_.size());
+  for (const auto& from : rows.receives())
+    for (const Index number : from)
+      if (number < model && index_of_id_[number] < 0)
+        ids.push_back(number);
+  std::ranges::sort(ids);
+  lay_rows(ids);
+  rows.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
+  rows.refresh_by_field([&](auto visit) {
+    p.for_each_field(visit);
+    search_.for_each_build_field(visit);
+  });
+  halo_bytes_ += rows.bytes_sent();
+}
+
 // The last build's lists for the rows this rank now lists (a new cut, a checkpoint read): from
-// that build's positions and smoothing lengths, whole on every rank then (gathered or read),
-// with the mirror images every row had at it.
+// that build's positions and smoothing lengths (a distributed run's of the rows
+// receive_neighbourhood(true) laid), with the mirror images the rows had at it.
 void ParticleSystem::relist() {
   auto& p = particles_;
   const Index rows = p.rows();
   std::vector<Vec3> x(search_.build_positions().begin(), search_.build_positions().begin() + rows);
   std::vector<double> h(search_.build_smoothing_lengths().begin(),
                         search_.build_smoothing_lengths().begin() + rows);
-  binned_.clear();
-  near_if_listed_.clear();
   p.for_each_field([rows](const char*, auto& field) { field.resize(rows); });
-  place_mirrors(x, mirror_.empty() ? 0.0 : mirror_reach(h, true));
+  place_mirrors(x, mirror_.empty() ? 0.0 : mirror_reach(h));
   for (Index k = 0; k < mirror_.size(); ++k) {
     x.push_back(mirror_.image_of(k, x[mirror_.source(k)]));
     h.push_back(h[mirror_.source(k)]);
@@ -239,6 +313,10 @@ long long ParticleSystem::pair_loop_entries() const {
 }
 
 void ParticleSystem::persist(StateArchive& a) {
+  if (share_ && !a.reading()) {
+    persist_whole(a);
+    return;
+  }
   auto& p = particles_;
   a.value("particles/real", p.real);
   a.value("particles/background", p.background);
@@ -253,34 +331,66 @@ void ParticleSystem::persist(StateArchive& a) {
   a.value("particles/skin", skin_);
   a.value("particles/dt_stable", dt_stable_);
   a.value("particles/rebuilds", rebuilds_);
-  if (a.reading() && search_.built())
+  if (!a.reading() || !search_.built())
+    return;
+  p.model_real = static_cast<Index>(index_of_id_.size());
+  if (!share_) {
     relist();
-  if (a.reading() && share_)
-    share(); // the checkpoint's list (collective: every rank reads the checkpoint)
+    return;
+  }
+  relist_shared(); // every rank read every row: it keeps its own and those near them
+}
+
+// Every row in the one-process layout, model-id order then background rows, from its owner to
+// rank 0, which writes (the others' archive discards); no mirror images: reading makes them.
+void ParticleSystem::persist_whole(StateArchive& a) {
+  auto& p = particles_;
+  const Index model = static_cast<Index>(index_of_id_.size()), count = model + p.background;
+  Index real = model, mirrored = 0;
+  a.value("particles/real", real);
+  a.value("particles/background", p.background);
+  a.value("particles/mirrored_real", mirrored);
+  a.value("particles/inelastic", p.inelastic);
+  a.value("particles/excluded", p.excluded);
+  const auto write = [&](const std::string& name, auto& field) {
+    auto rows = whole(field, GatherTo::writer, count);
+    a.array(name, rows);
+  };
+  p.for_each_field([&](const char* name, auto& field) {
+    if (std::string_view(name) == "id_p") {
+      std::vector<Index> ids(static_cast<std::size_t>(count), -1);
+      std::iota(ids.begin(), ids.begin() + model, Index(0));
+      a.array("particles/id_p", ids);
+    } else {
+      write(std::string("particles/") + name, field);
+    }
+  });
+  search_.persist_through(a, write);
+  std::vector<Index> index_of_id(static_cast<std::size_t>(model));
+  std::iota(index_of_id.begin(), index_of_id.end(), Index(0));
+  a.array("particles/index_of_id", index_of_id);
+  a.value("particles/skin", skin_);
+  a.value("particles/dt_stable", dt_stable_);
+  a.value("particles/rebuilds", rebuilds_);
 }
 
 void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                                 bool attached_rows_listed_if_near, Migration migration) {
+  std::vector<int> owner = std::move(owner_of_id);
+  owner.insert(owner.end(), owner_of_background.begin(), owner_of_background.end());
   const bool cut_anew = share_ != nullptr;
   if (cut_anew) { // the rows that change rank, whole from their old owner
-    auto& p = particles_;
-    const Index n = p.size();
+    const RowNumbering numbers = numbering();
     const int me = ranks::rank();
     std::vector<std::vector<Index>> moves(static_cast<std::size_t>(ranks::size()));
-    for (const Index k : share_->own) {
-      const int to = k < n ? owner_of_id[p.id_p[k]] : owner_of_background[k - n];
-      if (to != me)
-        moves[to].push_back(k);
-    }
-    HaloExchange::pushed(std::move(moves)).refresh_by_field([&p](auto visit) {
-      p.for_each_field(visit);
-    });
-    gather([this](auto visit) { search_.for_each_build_field(visit); }, GatherTo::every_rank);
+    for (const Index k : share_->own)
+      if (const Index number = numbers.number(k); owner[number] != me)
+        moves[owner[number]].push_back(number);
+    hand_over(std::move(moves));
   }
   distributed_ = true;
-  owner_of_id_ = std::move(owner_of_id);
+  owner_ = std::move(owner);
   migration_ = std::move(migration);
-  owner_of_background_ = std::move(owner_of_background);
   attached_rows_listed_if_near_ = attached_rows_listed_if_near;
   if (empty())
     return;
@@ -288,22 +398,29 @@ void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> o
     start();
     return;
   }
-  relist(); // the last build's lists of the rows this rank now steps
+  relist_shared();
   ++list_builds_;
+}
+
+void ParticleSystem::relist_shared() {
+  receive_neighbourhood(true);
+  relist();
+  share_whole();
+}
+
+void ParticleSystem::share_whole() {
   share();
-  if (cut_anew) { // the new halo whole: its rows were current where they were owned only
-    auto& p = particles_;
-    share_->halo.refresh_by_field([&p](auto visit) { p.for_each_field(visit); });
-    mirror_.refresh_motion(p, p.rows(), visible_rows());
-    mirror_.refresh_stress(p, p.rows(), visible_rows());
-  }
+  auto& p = particles_;
+  share_->halo.refresh_by_field([&p](auto visit) { p.for_each_field(visit); });
+  mirror_.refresh_motion(p, p.rows(), visible_rows());
+  mirror_.refresh_stress(p, p.rows(), visible_rows());
 }
 
 void ParticleSystem::share() {
   if (share_)
     halo_bytes_ += share_->halo.bytes_sent();
-  share_ = std::make_unique<ParticleShare>(make_particle_share(
-      particles_, search_.list(), mirror_, owner_of_id_, owner_of_background_, ranks::rank()));
+  share_ = std::make_unique<ParticleShare>(
+      make_particle_share(particles_, search_.list(), mirror_, owner_, numbering(), ranks::rank()));
   ++shares_;
 }
 
@@ -311,23 +428,13 @@ void ParticleSystem::read_also(std::span<const Index> rows) {
   if (!share_)
     return;
   const long long sent = share_->halo.bytes_sent();
-  if (!sphfem::read_also(*share_, mirror_, rows))
+  if (!sphfem::read_also(*share_, mirror_, rows, owner_, numbering()))
     return;
   halo_bytes_ += sent;
   auto& p = particles_;
   share_->halo.refresh_each([&p](auto visit) { p.for_each_field(visit); });
   mirror_.refresh_motion(p, p.rows(), visible_rows());
   mirror_.refresh_stress(p, p.rows(), visible_rows());
-}
-
-// With the last build's positions: a new cut or a restart lists its rows from them.
-void ParticleSystem::gather_state(GatherTo to) {
-  gather(
-      [this](auto visit) {
-        particles_.for_each_field(visit);
-        search_.for_each_build_field(visit);
-      },
-      to);
 }
 
 std::span<const unsigned char> ParticleSystem::owned_rows() const {
@@ -396,7 +503,6 @@ void ParticleSystem::update(double dt) {
   if (empty())
     return;
   auto& p = particles_;
-  const auto every_field = [&p](auto visit) { p.for_each_field(visit); };
   if (share_) {
     share_->halo.refresh_each([&p](auto visit) { p.for_each_moved_field(visit); });
     // The images of rows just received: on one process their stress and kill state were
@@ -408,14 +514,8 @@ void ParticleSystem::update(double dt) {
     if (share_)
       migrate();
     rebuild();
-    if (share_) {
-      share();
-      // The new halo whole (field by field: the step's refreshes need a third of a row's
-      // buffers): the rows it gained were current here in position only.
-      share_->halo.refresh_by_field(every_field);
-      mirror_.refresh_motion(p, p.rows(), visible_rows());
-      mirror_.refresh_stress(p, p.rows(), visible_rows());
-    }
+    if (share_)
+      share_whole();
   }
   sph_kinematics(p, search_.list(), spec_, dt, own_rows(), visible_rows());
   sph_material_update(p, materials_, spec_, dt, own_rows());

@@ -11,12 +11,16 @@
 // which the step (time/simulation.cpp) fills before each particle phase and whose forces it
 // takes back after it, with the contact between bodies (coupling/). The particle phase itself
 // knows nothing of elements. A case without particles or attached rows builds none of this.
+// A distributed run's rank holds only the real particles it steps and those near them, in
+// model-id order, then every background row, then its images (parallel/particle_share.hpp): its
+// rows are laid anew at each rebuild and new cut.
 // Verified by tests/sph/sph_test.cpp, tests/sph/attached_rows_test.cpp and tests/coupling/.
 #pragma once
 
 #include "solver/io/case.hpp"
 #include "solver/material/material.hpp"
 #include "solver/parallel/particle_share.hpp"
+#include "solver/parallel/ranks.hpp"
 #include "solver/sph/mirror_particles.hpp"
 #include "solver/sph/neighbour_search.hpp"
 #include "solver/state/model.hpp"
@@ -44,7 +48,8 @@ public:
   ParticleSystem(const Case& c, const Model& model, const std::vector<Material>& materials,
                  Index attached = 0, const AttachRows& attach = {}, bool distributed = false);
 
-  bool empty() const { return particles_.total() == 0; }
+  // No particles and no attached rows in the model (a distributed rank may hold none of them).
+  bool empty() const { return particles_.model_real + particles_.background == 0; }
   // How a distributed run's real particles change rank between cuts: at each neighbour-list
   // rebuild, one that left its rank's region by more than a list cutoff goes to the rank
   // `owner_at` names (the one whose region holds x; `current` while x lies within `slack` of
@@ -56,28 +61,23 @@ public:
   };
   // A distributed run (issue 28): from now on this rank steps the particles owner_of_id gives
   // it (by model id; they migrate as `migration` says) and computes what their forces read
-  // (parallel/particle_share.hpp). Collective, as are update(), gather_state() and reading a
-  // checkpoint after it. owner_of_background: the rank of each attached row. The neighbour
-  // lists are then of the rows this rank steps only, and, when `attached_rows_listed_if_near`,
-  // of the attached rows within two list cutoffs of one of them (a coupling reads those: the
-  // surface contact finds its candidates from its faces' corners). The first call of a system
-  // made `distributed` also makes its state at t = 0 (lists, kinematics, forces); a later one (a
-  // new cut) moves each row that changes rank whole from its old rank, and lists the rows from
-  // the last build's positions, which every rank receives.
+  // (parallel/particle_share.hpp). Collective, as are update() and persist() after it.
+  // owner_of_background: the rank of each attached row. The neighbour lists are then of the rows
+  // this rank steps only, and, when `attached_rows_listed_if_near`, of the attached rows within two
+  // list cutoffs of one of them (a coupling reads those: the surface contact finds its candidates
+  // from its faces' corners). The first call of a system made `distributed` also makes its state at
+  // t = 0 (lists, kinematics, forces); a later one (a new cut) moves each row that changes rank
+  // whole from its old rank, and lists the rows from the last build's positions, which travel with
+  // the rows near its own.
   void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
                   bool attached_rows_listed_if_near, Migration migration = {});
   // Particles that changed rank since the start (over all ranks).
   long long migrations() const { return migrations_; }
-  // Every rank's particles (but the mirror images, which are each rank's own) and the last
-  // neighbour build's positions into the arrays of the ranks `to` names (before a checkpoint or
-  // a new cut); nothing on one process.
-  void gather_state(GatherTo to);
-  // The fields for_each visits (for_each(visit) calls visit(name, field) per field; indexed by
-  // row, real and background), from each row's owner into the arrays of the ranks `to` names;
-  // nothing on one process. Collective.
-  template <class ForEach> void gather(ForEach for_each, GatherTo to) {
-    if (share_)
-      HaloExchange::gather(share_->owner, to).refresh_by_field(for_each);
+  // Each real particle's value of `field` (a particle field, by row here) by model id, from its
+  // owner, on the ranks `to` names (empty elsewhere); on one process the field in model order.
+  // Collective.
+  template <class T> std::vector<T> by_model_id(std::vector<T>& field, GatherTo to) const {
+    return whole(field, to, static_cast<Index>(index_of_id_.size()));
   }
   // Per row: 1 for the rows this rank steps (all on one process: empty).
   std::span<const unsigned char> owned_rows() const;
@@ -118,7 +118,8 @@ public:
 
   const Particles& particles() const { return particles_; }
   Particles& particles() { return particles_; }
-  // Current index of the particle that model.h5 lists at `id`.
+  // Current row of the particle that model.h5 lists at `id`; −1 when a distributed run's rank
+  // does not hold it.
   Index index_of(Index id) const { return index_of_id_[id]; }
   long long rebuilds() const { return rebuilds_; }
   // Changes whenever the neighbour lists are made anew: at each rebuild and when the rows a
@@ -132,7 +133,10 @@ public:
   // mirror images gather nothing), over all ranks (collective when distributed).
   long long pair_loop_entries() const;
   // Checkpoint: every particle field, the neighbour search's last build and the counters that
-  // decide the next rebuild; reading lists the rows from that build (with its mirror images).
+  // decide the next rebuild; reading lists the rows from that build (with its mirror images). A
+  // distributed run writes every rank's rows in the one-process layout (without mirror images),
+  // gathered on rank 0, and each rank keeps its own and those near them of what it reads.
+  // Collective then.
   void persist(StateArchive& a);
 
 private:
@@ -142,19 +146,36 @@ private:
   // what the kinematics wrote, as in update()).
   void start();
   void migrate();
-  void receive_neighbourhood();
+  // Whole rows (and their last build's positions) from this rank to others: numbers[r] lists the
+  // shared numbers (RowNumbering) of those rank r takes. Collective.
+  void hand_over(std::vector<std::vector<Index>> numbers);
+  // Holds the real particles `ids` lists (ascending model ids) and every background row, in that
+  // order, keeping the state of those held already; the new rows are zero until received, the
+  // mirror images and lists gone until the next build.
+  void lay_rows(const std::vector<Index>& ids);
+  // The rows near this rank's own, at their current positions or (`at_build`) at the last
+  // build's, from their owners; the rows laid as own and those.
+  void receive_neighbourhood(bool at_build);
   void relist();
   void mark_listed(); // the rows this rank lists (all on one process: none marked)
+  RowNumbering numbering() const { return {particles_.id_p, index_of_id_, particles_.real}; }
   // A distributed run's rank stepping row k (a real particle's or an attached row's).
-  int row_owner(Index k) const {
-    const Index n = particles_.size();
-    return k < n ? owner_of_id_[particles_.id_p[k]] : owner_of_background_[k - n];
-  }
+  int row_owner(Index k) const { return owner_[numbering().number(k)]; }
+  // A field's values of the first `count` shared numbers (RowNumbering), from their owners, on
+  // the ranks `to` names. Collective.
+  template <class T> std::vector<T> whole(std::vector<T>& field, GatherTo to, Index count) const;
+  void persist_whole(StateArchive& a);
   NeighbourSearch::ListedRows listed() const { return {listed_, listed_if_near_, binned_}; }
   void share(); // the share of the current neighbour list
+  // share(), then the new halo whole (field by field: the step's refreshes need a third of a
+  // row's buffers), as its rows were current where they were owned only, and their images.
+  void share_whole();
+  // The last build's lists of the rows this rank now steps (a new cut, a checkpoint read) and
+  // their share: receive_neighbourhood(true), relist(), share_whole().
+  void relist_shared();
   bool rebuild_due() const;
   void forces(double dt);
-  double mirror_reach(std::span<const double> h, bool whole) const;
+  double mirror_reach(std::span<const double> h) const;
   void place_mirrors(std::span<const Vec3> x, double reach);
   // A distributed run's rows and images that its own rows read (null on one process: all). The
   // other images are refreshed at each rebuild only.
@@ -170,9 +191,9 @@ private:
   double dt_stable_ = 0;
   long long rebuilds_ = 0;
   long long list_builds_ = 0;
-  bool distributed_ = false;             // distribute() was called
-  std::vector<int> owner_of_id_;         // a distributed run's owners by model id; else empty
-  std::vector<int> owner_of_background_; // and of the attached rows
+  bool distributed_ = false; // distribute() was called
+  // A distributed run's owners by shared number (model particles, then attached rows).
+  std::vector<int> owner_;
   Migration migration_;
   long long migrations_ = 0;
   bool attached_rows_listed_if_near_ = false;
@@ -184,5 +205,39 @@ private:
   long long halo_bytes_ = 0;                  // sent through the shares of earlier lists
   long long shares_ = 0;                      // shares made so far
 };
+
+template <class T>
+std::vector<T> ParticleSystem::whole(std::vector<T>& field, GatherTo to, Index count) const {
+  const int me = ranks::rank();
+  const bool receives = to == GatherTo::every_rank || me == 0;
+  std::vector<T> out(receives ? static_cast<std::size_t>(count) : 0);
+  if (!share_) {
+    for (Index k = 0; k < particles_.rows(); ++k)
+      if (const Index number = numbering().number(k); number < count)
+        out[number] = field[k];
+    return out;
+  }
+  const RowNumbering numbers = numbering();
+  if (receives)
+    for (Index k = 0; k < particles_.rows(); ++k)
+      if (const Index number = numbers.number(k); number < count && owner_[number] == me)
+        out[number] = field[k];
+  // By shared number: an owner reads its row, a receiver writes the whole field's entry.
+  struct ByNumber {
+    std::vector<T>& field;
+    std::vector<T>& out;
+    const RowNumbering& numbers;
+    const std::vector<int>& owner;
+    int me;
+    T& operator[](Index number) const {
+      return owner[number] == me ? field[numbers.row(number)] : out[number];
+    }
+  };
+  const ByNumber view{field, out, numbers, owner_, me};
+  HaloExchange::gather(std::span(owner_).first(count), to).refresh_each([&view](auto visit) {
+    visit("", view);
+  });
+  return out;
+}
 
 } // namespace sphfem

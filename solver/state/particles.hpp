@@ -22,6 +22,7 @@ enum class Kill : std::uint8_t { None, Compressed, Tension };
 // particles, rows() real and background (the entities that gather sums), total() all.
 struct Particles {
   Index real = 0;
+  Index model_real = 0; // the model's real particles (a distributed run's rank holds some of them)
   Index background = 0;
   Index mirrored_real = 0; // mirror images of real particles (the first ones after rows())
   bool inelastic = false;  // some particle's material carries a plastic/damage history

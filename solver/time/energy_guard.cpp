@@ -2,6 +2,7 @@
 
 #include "solver/core/error.hpp"
 #include "solver/core/format.hpp"
+#include "solver/parallel/ranks.hpp"
 
 #include <array>
 #include <cmath>
@@ -46,10 +47,19 @@ std::string fastest_entity(const Simulation& sim) {
       fastest = v, at = n.x_n[i];
       what = detail::concat("node ", i, " of ", sim.body_names()[n.body_n[i]]);
     }
+  // The particles each rank steps (all on one process); the fastest over the ranks, the first
+  // rank's on a tie.
+  std::array<double, 6> mine{-1, 0, 0, 0, 0, 0}; // |v|, x, y, z, model id, body
   for (Index i = 0; i < p.size(); ++i)
-    if (const double v = p.v_p[i].norm(); p.kill_p[i] == Kill::None && v > fastest) {
-      fastest = v, at = p.x_p[i];
-      what = detail::concat("particle ", p.id_p[i], " of ", sim.body_names()[p.body_p[i]]);
+    if (const double v = p.v_p[i].norm();
+        sim.owns_row(i) && p.kill_p[i] == Kill::None && v > mine[0])
+      mine = {v, p.x_p[i].x(), p.x_p[i].y(), p.x_p[i].z(), double(p.id_p[i]), double(p.body_p[i])};
+  const std::vector<double> all = ranks::gather_all(mine);
+  for (std::size_t r = 0; r < all.size(); r += mine.size())
+    if (all[r] > fastest) {
+      fastest = all[r], at = {all[r + 1], all[r + 2], all[r + 3]};
+      what = detail::concat("particle ", Index(all[r + 4]), " of ",
+                            sim.body_names()[static_cast<std::size_t>(all[r + 5])]);
     }
   if (fastest < 0)
     return "no node or live particle";

@@ -68,7 +68,7 @@ ReactionTotals ParticleBoundaries::apply(double t, double t_half, double dt_v,
   Particles& p = system.particles();
   // A distributed run: each rank applies (and counts) its own particles' conditions.
   const std::span<const unsigned char> own = system.owned_rows();
-  const auto mine = [&own](Index i) { return own.empty() || own[i]; };
+  const auto mine = [&own](Index i) { return i >= 0 && (own.empty() || own[i]); };
   ReactionTotals totals;
   for (const auto& load : loads_) {
     const double pressure = load.pressure * load.function(t);

@@ -65,10 +65,14 @@ void probe_values(const std::vector<Probe>& probes, const Simulation& sim,
     bool owner = false;
     if (p.on_particle) {
       const Index i = sim.particle_system().index_of(p.node);
-      owner = sim.owns_row(i);
-      u = part.x_p[i] - part.x0_p[i];
-      v = part.v_p[i];
-      s = part.S_p[i] - part.p_p[i] * Mat3::Identity();
+      owner = i >= 0 && sim.owns_row(i); // a distributed rank may not hold it
+      u = v = Vec3::Zero();
+      s = Mat3::Zero();
+      if (owner) {
+        u = part.x_p[i] - part.x0_p[i];
+        v = part.v_p[i];
+        s = part.S_p[i] - part.p_p[i] * Mat3::Identity();
+      }
     } else {
       owner = sim.owns_node(p.node);
       u = nodes.x_n[p.node] - nodes.x0_n[p.node];

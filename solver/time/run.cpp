@@ -158,7 +158,7 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
              " MPI ranks (recursive coordinate bisection weighted by cost)");
   const auto probes = locate_probes(c, model);
   const Index nodes = sim.nodes().size(), elements = sim.elements().size();
-  const Index particles = sim.particle_system().particles().size();
+  const Index particles = model.particle_count();
   const double dt0 = sim.stable_dt();
   log.line("case " + c.name + ": " + std::to_string(nodes) + " nodes, " + std::to_string(elements) +
            " hexahedra, " + std::to_string(particles) + " particles; " +
@@ -438,6 +438,12 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     }
     summary["halo_fraction"] = {{"mean", mean}, {"max", largest}};
     summary["peak_resident_MB_per_rank"] = peaks;
+    // The real particles whose rows each rank holds at the end: its own and those near them.
+    std::vector<Index> held;
+    for (const double n :
+         ranks::gather_all(std::array{double(sim.particle_system().particles().size())}))
+      held.push_back(static_cast<Index>(n));
+    summary["particles_held_per_rank"] = held;
     log.line("ranks exchanged " + format("%.3g", sent / 1e6) + " MB (" +
              format("%.3g", entity_steps > 0 ? sent / entity_steps : 0.0) +
              " B per entity-step) for their halos; halo fraction " + format("%.3f", mean) +

@@ -94,6 +94,10 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   particle_boundaries_ = ParticleBoundaries(c, model);
   contact_ = Contact(c, model, particles_.particles(), background_, elements_);
   reference_state();
+  const auto& p = particles_.particles(); // every row until distributed
+  momentum_scale_ =
+      deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
+      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
   if (subdomain_)
     particles_.distribute(decomposition_.part_p, decomposition_.part_b,
                           contact_.reads_lists_of_nearby_background_rows(),
@@ -108,10 +112,6 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
   return_background_forces();
   initial_energy_ = energies().total(); // kinetic, and contact energy if bodies start close
   initial_momentum_ = momentum();
-  const auto& p = particles_.particles();
-  momentum_scale_ =
-      deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
-      deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
 }
 
 void Simulation::reference_state() {
@@ -310,22 +310,16 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
   std::vector<unsigned char> yielding_row(static_cast<std::size_t>(p.rows()), 0);
   for (Index k = 0; k < real.count; ++k)
     yielding_row[real[k]] = yields_p(real[k]);
-  particles_.gather(
-      [&](auto visit) {
-        visit("x_p", rows.x_p), visit("neighbours_p", rows.neighbours_p);
-        visit("kill_p", rows.kill_p), visit("yielding", yielding_row);
-      },
-      GatherTo::every_rank);
-  HaloExchange::gather(decomposition_.part_n, GatherTo::every_rank).refresh(nodes_.x_n);
-  const Index np = p.size(), ne = e.size();
-  std::vector<int> neighbours(static_cast<std::size_t>(np));
-  std::vector<unsigned char> live_p(static_cast<std::size_t>(np)), live_e(ne);
-  std::vector<unsigned char> yielding_p(static_cast<std::size_t>(np)), yielding_e(ne);
-  for (Index i = 0; i < np; ++i) {
-    neighbours[p.id_p[i]] = p.neighbours_p[i];
-    live_p[p.id_p[i]] = p.kill_p[i] != Kill::Tension;
-    yielding_p[p.id_p[i]] = yielding_row[i];
-  }
+  constexpr GatherTo every_rank = GatherTo::every_rank;
+  std::vector<Vec3> x_p = particles_.by_model_id(rows.x_p, every_rank);
+  const std::vector<int> neighbours = particles_.by_model_id(rows.neighbours_p, every_rank);
+  const std::vector<Kill> kill_p = particles_.by_model_id(rows.kill_p, every_rank);
+  const std::vector<unsigned char> yielding_p = particles_.by_model_id(yielding_row, every_rank);
+  HaloExchange::gather(decomposition_.part_n, every_rank).refresh(nodes_.x_n);
+  const Index np = model.particle_count(), ne = e.size();
+  std::vector<unsigned char> live_p(static_cast<std::size_t>(np)), live_e(ne), yielding_e(ne);
+  for (Index i = 0; i < np; ++i)
+    live_p[i] = kill_p[i] != Kill::Tension;
   for (const Index k : subdomain_->elements)
     yielding_e[k] = yields_e(k);
   subdomain_->all_elements.refresh(elements_.eroded_e, yielding_e);
@@ -336,8 +330,7 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
       current_costs(reference, neighbours, live_p, live_e, yielding_p, yielding_e);
   Model here = model; // the entities where they are now
   here.x_n = nodes_.x_n;
-  for (Index i = 0; i < np; ++i)
-    here.x_p[p.id_p[i]] = p.x_p[i];
+  here.x_p = std::move(x_p);
   Decomposition d = decompose(here, now, decomposition_.parts);
   const double after = phase_imbalance(d, now);
   if (!(after < r.before))
@@ -376,7 +369,6 @@ void Simulation::gather_state(GatherTo to) {
   subdomain_->all_elements.refresh(elements_.eroded_e);
   // Its buffers are not needed until the next checkpoint or new cut.
   subdomain_->all_elements.release();
-  particles_.gather_state(to);
 }
 
 void Simulation::step(double dt) {

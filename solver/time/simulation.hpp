@@ -65,7 +65,8 @@ struct Rebalance {
 class Simulation {
 public:
   // With a decomposition of several parts (a distributed run, issue 28) this rank steps its
-  // share (parallel/subdomain.hpp): call gather_state() before reading the whole state.
+  // share (parallel/subdomain.hpp) and holds the particles near it only: call gather_state()
+  // before reading the whole state of the nodes.
   Simulation(const Case& c, const Model& model, const Decomposition* decomposition = nullptr);
 
   // Largest step the stability limits allow now: min(time.cfl × Δt_FE ⊕ Δt_c, 0.3 Δt_c,
@@ -86,11 +87,12 @@ public:
   // The contact springs' step as a fraction of their critical step 2/ω.
   static constexpr double contact_step_factor = 0.3;
   void step(double dt);
-  // A distributed run: every rank's share into the arrays of the ranks `to` names — rank 0 for
-  // a checkpoint, which it writes; every rank for the energy guard's message — so that they see the
-  // whole state, as on one process, but for the elements' state fields, which stay in each
-  // rank's slots (HexElements) and which persist() gathers into the checkpoint one field at a
-  // time. The other ranks' arrays keep what they held. Collective; nothing to do on one process.
+  // A distributed run: every rank's nodes and elements' erosion flags into the arrays of the
+  // ranks `to` names — rank 0 for a checkpoint, which it writes; every rank for the energy
+  // guard's message — as on one process. The elements' state fields stay in each rank's slots
+  // (HexElements) and the particles' rows on their ranks: persist() gathers them into the
+  // checkpoint one field at a time. The other ranks' arrays keep what they held. Collective;
+  // nothing to do on one process.
   void gather_state(GatherTo to = GatherTo::every_rank);
   // A distributed run: when the decomposition's imbalance at the entities' current costs
   // (parallel/decomposition.hpp: current_costs of `reference`, the run's costs at t = 0; killed
@@ -157,7 +159,7 @@ public:
   // field; reading it into a simulation built from the same case and model continues that run
   // bit for bit, on any number of ranks. A distributed run writes after gather_state(), on
   // every rank together: rank 0 into the file, the others into a DiscardingArchive, each
-  // element state field gathered on rank 0 as it is written. Collective then.
+  // element state field and particle field gathered on rank 0 as it is written. Collective then.
   void persist(StateArchive& a);
 
 private:

@@ -20,10 +20,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -165,12 +167,14 @@ fs::path write_case(const fs::path& dir, const std::string& name, const char* te
 // Runs `case_file` on one process and on 2 and 3 ranks; each writes the same history, bit for
 // bit, and the same summary (but timing and what only a distributed run reports). The ranks do
 // not gather their state for it: the history's sums are exact sums of each rank's own entities.
-// Returns the single run's summary; `shares`, when given, receives how often the runs of 2 and
-// 3 ranks shared their work anew (rebalances) and how many particles changed rank between
-// (migrations).
+// Every particle's row is held by its rank, and no rank holds more than the model's. Returns
+// the single run's summary; `shares`, when given, receives how often the runs of 2 and 3 ranks
+// shared their work anew (rebalances), how many particles changed rank between (migrations) and
+// the most particles' rows a rank held at the end.
 struct Shares {
   std::vector<int> rebalances;
   std::vector<long long> migrations;
+  std::vector<long long> most_held;
 };
 nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
                                                const std::string& name,
@@ -193,14 +197,22 @@ nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
     auto summary = sphfem::test::summary_without_timing(out);
     EXPECT_EQ(summary["ranks"], ranks);
     EXPECT_GT(summary["halo_bytes_per_entity_step"].get<double>(), 0.0);
+    const auto particles = one["counts"]["particles"].get<long long>();
+    const auto held = summary["particles_held_per_rank"].get<std::vector<long long>>();
+    EXPECT_EQ(held.size(), static_cast<std::size_t>(ranks));
+    EXPECT_GE(std::accumulate(held.begin(), held.end(), 0LL), particles);
+    const long long most = held.empty() ? 0 : *std::ranges::max_element(held);
+    EXPECT_LE(most, particles);
     if (shares != nullptr) {
       shares->rebalances.push_back(summary["rebalances"].get<int>());
       shares->migrations.push_back(summary["migrations"].get<long long>());
+      shares->most_held.push_back(most);
     }
     summary.erase("ranks");
     summary.erase("halo_bytes_per_entity_step");
     summary.erase("rebalances");
     summary.erase("migrations");
+    summary.erase("particles_held_per_rank");
     EXPECT_EQ(summary["peak_resident_MB_per_rank"].size(), static_cast<std::size_t>(ranks));
     summary.erase("peak_resident_MB_per_rank");
     // Every rank reads a halo from the others.
@@ -254,7 +266,15 @@ TEST(MpiLaunch, ErodingBarOnTwoAndThreeRanksIsTheOneProcessRun) {
 }
 
 TEST(MpiLaunch, ElasticParticleBarOnTwoAndThreeRanksIsTheOneProcessRun) {
-  expect_ranks_repeat_one_process(source + "bar_pressed_sph/case.yaml", "mpi_bar_pressed_sph");
+  // A rank holds the rows of its particles and of those within reach of them only: of a bar cut
+  // across its length, a part and a few layers beyond.
+  Shares shares;
+  const auto one = expect_ranks_repeat_one_process(source + "bar_pressed_sph/case.yaml",
+                                                   "mpi_bar_pressed_sph", "", &shares);
+  const auto particles = one["counts"]["particles"].get<long long>();
+  ASSERT_EQ(shares.most_held.size(), 2u);
+  EXPECT_LT(shares.most_held[0], 0.75 * double(particles)) << "2 ranks";
+  EXPECT_LT(shares.most_held[1], 0.6 * double(particles)) << "3 ranks";
 }
 
 TEST(MpiLaunch, AttachedBarOnTwoAndThreeRanksIsTheOneProcessRun) {

@@ -474,8 +474,9 @@ TEST(ParticleShare, ARankReadsItsParticlesNeighbours) {
   std::vector<int> owner(p.real);
   for (Index i = 0; i < p.real; ++i)
     owner[i] = m.x_p[i].x() < 3.5 * mm ? 0 : 1;
+  const RowNumbering numbers{p.id_p, p.id_p, p.real}; // every row, in model order
   ParticleShare lower =
-      make_particle_share(p, search.list(), MirrorParticles(), owner, {}, 0, false);
+      make_particle_share(p, search.list(), MirrorParticles(), owner, numbers, 0, false);
   EXPECT_EQ(lower.own.size(), 64u);
   EXPECT_EQ(lower.halo_rows.size(), 32u);
   EXPECT_EQ(lower.visible.size(), 96u);
@@ -491,7 +492,7 @@ TEST(ParticleShare, ARankReadsItsParticlesNeighbours) {
     if (m.x_p[i].x() > 6 * mm) // the last layer: beyond the halo
       further.push_back(i);
   further.push_back(further[1]); // twice: once
-  EXPECT_TRUE(read_also(lower, MirrorParticles(), further));
+  EXPECT_TRUE(read_also(lower, MirrorParticles(), further, owner, numbers));
   EXPECT_EQ(lower.halo_rows.size(), 34u);
   EXPECT_TRUE(std::ranges::binary_search(lower.halo_rows, further[2]));
   EXPECT_TRUE(std::ranges::is_sorted(lower.visible));
@@ -523,7 +524,9 @@ TEST(Decomposition, ARanksVisibleRowsHoldTheImagesOfItsVisibleRowsAndNoOthers) {
   for (Index i = 0; i < p.real; ++i)
     owner[i] = m.x_p[i].x() < 3.5 * mm ? 0 : 1;
   for (const int rank : {0, 1}) {
-    const ParticleShare s = make_particle_share(p, search.list(), mirrors, owner, {}, rank, false);
+    const RowNumbering numbers{p.id_p, std::span(p.id_p).first(p.real), p.real};
+    const ParticleShare s =
+        make_particle_share(p, search.list(), mirrors, owner, numbers, rank, false);
     EXPECT_TRUE(std::ranges::is_sorted(s.visible));
     const auto visible = [&](Index j) { return std::ranges::binary_search(s.visible, j); };
     Index images = 0;
@@ -539,6 +542,23 @@ TEST(Decomposition, ARanksVisibleRowsHoldTheImagesOfItsVisibleRowsAndNoOthers) {
       for (Index j : search.list().of(i))
         EXPECT_TRUE(visible(j)) << "row " << i << " lists " << j;
   }
+}
+
+TEST(ParticleShare, ARanksRowsMapToTheNumbersEveryRankShares) {
+  // A rank of a 10-particle model with 2 background rows holds particles 2, 5 and 7: its rows
+  // 0–2, then the background rows 3–4, shared as 10 and 11.
+  const std::vector<Index> id_of_row{2, 5, 7, -1, -1};
+  std::vector<Index> row_of_id(10, -1);
+  for (Index k = 0; k < 3; ++k)
+    row_of_id[id_of_row[k]] = k;
+  const RowNumbering numbers{id_of_row, row_of_id, 3};
+  EXPECT_EQ(numbers.model(), 10);
+  const std::vector<Index> shared{2, 5, 7, 10, 11};
+  for (Index k = 0; k < 5; ++k) {
+    EXPECT_EQ(numbers.number(k), shared[k]);
+    EXPECT_EQ(numbers.row(shared[k]), k);
+  }
+  EXPECT_EQ(numbers.row(4), -1); // not held here
 }
 
 TEST(Decomposition, BadRequestsAreRefused) {
