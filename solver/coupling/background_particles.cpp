@@ -10,7 +10,7 @@ void BackgroundParticles::initialise(const Case& c, const Model& model,
                                      const std::vector<Material>& materials, Particles& p) const {
   const std::vector<int> group = c.body_groups();
   for (Index k = 0; k < size(); ++k) {
-    const Index b = p.real + k, node = nodes_[k];
+    const Index b = p.background_row(k), node = nodes_[k];
     const int body = model.body_n[node];
     SPHFEM_CHECK(body >= 0 && body < static_cast<int>(c.bodies.size()), "model.h5: particle ", b,
                  " has body id ", body);
@@ -27,7 +27,7 @@ void BackgroundParticles::fill(const Nodes& nodes, const HexElements& elements,
   const IndexRange filled = IndexRange::of(only, size());
 #pragma omp parallel for schedule(static) if (filled.count > parallel_min_items)
   for (Index m = 0; m < filled.count; ++m) {
-    const Index k = filled[m], b = p.real + k, i = nodes_[k];
+    const Index k = filled[m], b = p.background_row(k), i = nodes_[k];
     const Mat3 sigma = nodal_stress(elements, around, i);
     double mass = 0, volume = 0;
     for (Index entry : around.around(i)) {
@@ -54,7 +54,7 @@ void BackgroundParticles::return_forces(const Particles& p, std::vector<Vec3>& f
 #pragma omp parallel for schedule(static) if (returned.count > parallel_min_items)
   for (Index m = 0; m < returned.count; ++m) {
     const Index k = returned[m];
-    f_nodes[nodes_[k]] += p.f_p[p.real + k];
+    f_nodes[nodes_[k]] += p.f_p[p.background_row(k)];
   }
 }
 

@@ -17,7 +17,6 @@
 #include "solver/state/nodes.hpp"
 #include "solver/state/particles.hpp"
 
-#include <span>
 #include <vector>
 
 namespace sphfem {
@@ -29,7 +28,7 @@ public:
 
   Index size() const { return static_cast<Index>(nodes_.size()); }
   bool empty() const { return nodes_.empty(); }
-  // FE node of background particle k (array slot p.real + k).
+  // FE node of background particle k (array row p.background_row(k)).
   Index node(Index k) const { return nodes_[k]; }
 
   // Sets the fields of the slots that stay fixed (body, group, material, smoothing length,
@@ -51,8 +50,9 @@ public:
   void return_forces(const Particles& p, std::vector<Vec3>& f_nodes,
                      const std::vector<Index>* only = nullptr) const;
 
-  // The fields fill() writes and those return_forces() reads, as spans over the background
-  // rows, for a distributed run's exchanges: visit(name, span) per field.
+  // The fields fill() writes and those return_forces() reads, as views indexed by background
+  // particle (a distributed run's exchanges; the rank holds the rows it sends and receives):
+  // visit(name, view) per field.
   template <class Visit> static void visit_filled(Particles& p, Visit visit);
   template <class Visit> static void visit_returned(Particles& p, Visit visit);
 
@@ -61,9 +61,17 @@ public:
   ExactSum energy(const Particles& p, IndexRange rows) const;
 
 private:
-  template <class T> static std::span<T> rows(Particles& p, std::vector<T>& field) {
-    return std::span<T>(field).subspan(static_cast<std::size_t>(p.real),
-                                       static_cast<std::size_t>(p.background));
+  template <class T> class Rows {
+  public:
+    Rows(const Particles& p, std::vector<T>& field) : p_(p), field_(field) {}
+    T& operator[](Index k) const { return field_[p_.background_row(k)]; }
+
+  private:
+    const Particles& p_;
+    std::vector<T>& field_;
+  };
+  template <class T> static Rows<T> rows(const Particles& p, std::vector<T>& field) {
+    return Rows<T>(p, field);
   }
 
   std::vector<Index> nodes_;

@@ -112,10 +112,12 @@ SurfaceContact::SurfaceContact(const Case& c, const Model& model, const Particle
                                            it->second.end());
   for (const int body : fem_bodies_)
     erodes_ = erodes_ || c.material(c.bodies[body].material).erosion;
-  real_ = p.real;
-  row_of_node_.assign(model.node_count(), -1);
-  for (Index k = 0; k < background.size(); ++k)
-    row_of_node_[background.node(k)] = p.real + k;
+  background_of_node_.assign(model.node_count(), -1);
+  x0_.resize(static_cast<std::size_t>(background.size()));
+  for (Index k = 0; k < background.size(); ++k) {
+    background_of_node_[background.node(k)] = k;
+    x0_[k] = p.x0_p[p.background_row(k)];
+  }
   build_faces(p, elements);
 
   // A slave within contact range of a face lies within D/2 + R of the face's nearest corner (D
@@ -148,7 +150,7 @@ SurfaceContact::SurfaceContact(const Case& c, const Model& model, const Particle
 bool SurfaceContact::slave(const Particles& p, Index i) const {
   if (!face_partner_[p.body_p[i]])
     return false;
-  return i < real_ || area_[i - real_] > 0;
+  return i < p.real || area_[p.background_particle(i)] > 0;
 }
 
 Index SurfaceContact::eroded_count(const HexElements& elements) const {
@@ -162,29 +164,30 @@ Index SurfaceContact::eroded_count(const HexElements& elements) const {
 
 void SurfaceContact::build_faces(const Particles& p, const HexElements& elements) {
   faces_.clear();
-  area_.assign(static_cast<std::size_t>(p.background), 0.0);
-  thickness_.assign(static_cast<std::size_t>(p.background), 0.0);
-  normal_.assign(static_cast<std::size_t>(p.background), Vec3::Zero());
+  area_.assign(x0_.size(), 0.0);
+  thickness_.assign(x0_.size(), 0.0);
+  normal_.assign(x0_.size(), Vec3::Zero());
   for (const int body : fem_bodies_)
     for (const SurfaceFace& surface :
          surface_faces(elements.nodes_e, elements.body_e, body, elements.eroded_e, cut_[body])) {
-      Face face{{}, body, 0};
+      Face face{{}, {}, body, 0};
       std::array<Vec3, 4> x0;
       for (int a = 0; a < 4; ++a) {
-        face.rows[a] = row_of_node_[surface.nodes[a]];
-        SPHFEM_CHECK(face.rows[a] >= 0, "contact: node ", surface.nodes[a], " of body '",
+        face.background[a] = background_of_node_[surface.nodes[a]];
+        SPHFEM_CHECK(face.background[a] >= 0, "contact: node ", surface.nodes[a], " of body '",
                      names_[body],
                      "' lies on its surface but carries no background particle: re-mesh");
-        x0[a] = p.x0_p[face.rows[a]];
+        x0[a] = x0_[face.background[a]];
       }
       const double area = quad_area(x0);
       face.depth = elements.V0_e[surface.element] / area;
-      for (const Index row : face.rows) {
-        area_[row - real_] += 0.25 * area;
-        thickness_[row - real_] += 0.25 * area * face.depth;
+      for (const Index k : face.background) {
+        area_[k] += 0.25 * area;
+        thickness_[k] += 0.25 * area * face.depth;
       }
       faces_.push_back(face);
     }
+  locate_faces(p);
   for (std::size_t k = 0; k < area_.size(); ++k)
     if (area_[k] > 0)
       thickness_[k] /= area_[k];
@@ -198,6 +201,8 @@ void SurfaceContact::build_candidates(Particles& p, const NeighbourList& list) {
   const Index rows = p.rows();
   for (Index f = 0; f < static_cast<Index>(faces_.size()); ++f) {
     const Face& face = faces_[f];
+    if (!face.held())
+      continue; // far from this rank's rows: no slave it evaluates meets it
     for (const Index corner : face.rows)
       for (const Index j : list.of(corner))
         if (j < rows && pair_index(p.body_p[j], face.body) >= 0 && slave(p, j))
@@ -231,14 +236,14 @@ void SurfaceContact::build_candidates(Particles& p, const NeighbourList& list) {
   master_offsets_.assign(static_cast<std::size_t>(p.background) + 1, 0);
   for (const Candidate& c : candidates_)
     for (const Index row : faces_[c.face].rows)
-      ++master_offsets_[row - real_ + 1];
+      ++master_offsets_[row - p.real + 1];
   for (Index k = 0; k < p.background; ++k)
     master_offsets_[k + 1] += master_offsets_[k];
   master_entries_.resize(master_offsets_.back());
   cursor_.assign(master_offsets_.begin(), master_offsets_.end() - 1);
   for (Index c = 0; c < static_cast<Index>(candidates_.size()); ++c)
     for (int a = 0; a < 4; ++a)
-      master_entries_[cursor_[faces_[candidates_[c].face].rows[a] - real_]++] = 4 * c + a;
+      master_entries_[cursor_[faces_[candidates_[c].face].rows[a] - p.real]++] = 4 * c + a;
   ++candidate_builds_;
 }
 
@@ -262,13 +267,19 @@ void SurfaceContact::share(const Particles& p, const ContactRanks& ranks) {
     for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
       for (const Index row : faces_[candidates_[c].face].rows)
         read[row] = 1;
-    if (i >= real_)
-      normal_read[i - real_] = 1;
+    if (i >= p.real)
+      normal_read[i - p.real] = 1;
   }
-  for (const Face& face : faces_)
-    if (std::ranges::any_of(face.rows, [&](Index row) { return normal_read[row - real_] != 0; }))
-      for (const Index row : face.rows)
-        read[row] = 1;
+  for (const Face& face : faces_) {
+    const bool around = std::ranges::any_of(
+        face.rows, [&](Index row) { return row >= p.real && normal_read[row - p.real] != 0; });
+    if (!around)
+      continue;
+    SPHFEM_CHECK(face.held(), "contact: a face around a slave evaluated here has a corner this "
+                              "rank does not hold (internal error)");
+    for (const Index row : face.rows)
+      read[row] = 1;
+  }
   std::vector<Index> rows;
   for (Index i = 0; i < p.rows(); ++i)
     if (read[i] && !owns[i])
@@ -337,11 +348,13 @@ void SurfaceContact::update_normals(const Particles& p) {
   // Area-weighted: Σ over a node's faces of ½ (x2 − x0) × (x3 − x1), normalised.
   std::fill(normal_.begin(), normal_.end(), Vec3::Zero());
   for (const Face& face : faces_) {
+    if (!face.held())
+      continue; // nor are its corners' normals read here
     const auto& x = p.x_p;
     const Vec3 n =
         0.5 * (x[face.rows[2]] - x[face.rows[0]]).cross(x[face.rows[3]] - x[face.rows[1]]);
-    for (const Index row : face.rows)
-      normal_[row - real_] += n;
+    for (const Index k : face.background)
+      normal_[k] += n;
   }
   for (Vec3& n : normal_)
     if (const double length = n.norm(); length > 0)
@@ -355,10 +368,11 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
     if (ranks != nullptr && !evaluated_[s])
       return ContactTerm{};
     const Index i = slave_rows_[s];
-    const bool particle = i < real_;
+    const bool particle = i < p.real;
     const double R = particle ? 0.5 * p.dp_p[i] : 0.0;
-    const double size = particle ? p.dp_p[i] : thickness_[i - real_];
-    const double area = particle ? p.m_p[i] / (p.rho0_p[i] * size) : area_[i - real_];
+    const Index node_k = particle ? -1 : p.background_particle(i); // a node's
+    const double size = particle ? p.dp_p[i] : thickness_[node_k];
+    const double area = particle ? p.m_p[i] / (p.rho0_p[i] * size) : area_[node_k];
     const Vec3 xi = p.x_p[i];
     const auto lower_bound = [](const std::array<Vec3, 4>& x, const Vec3& point) {
       const Vec3 centre = 0.25 * (x[0] + x[1] + x[2] + x[3]);
@@ -374,9 +388,9 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
       return x;
     };
     // A node does not meet faces turned its own way (their normal within 60° of its own).
-    const auto facing = [&](Index row, const std::array<Vec3, 4>& x) {
+    const auto facing = [&](const std::array<Vec3, 4>& x) {
       const Vec3 n = (x[2] - x[0]).cross(x[3] - x[1]);
-      return normal_[row - real_].dot(n) < facing_limit * n.norm();
+      return normal_[node_k].dot(n) < facing_limit * n.norm();
     };
     // The nearest point of the other body's surface among the candidate faces.
     Index best = -1;
@@ -386,7 +400,7 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
       candidate.force.setZero();
       candidate.stiffness = 0;
       const std::array<Vec3, 4> x = corners(candidate.face);
-      if (!particle && !facing(i, x))
+      if (!particle && !facing(x))
         continue;
       const double bound = lower_bound(x, xi);
       if (bound > R + near_fraction * size || (best >= 0 && bound >= nearest.distance))
@@ -411,7 +425,7 @@ ContactTotals SurfaceContact::segments(Particles& p, double dt, const ContactRan
         if (lower_bound(x, nearest.x) > shared)
           continue;
         if (const QuadPoint q = nearest_on_quad(x, nearest.x); q.distance <= shared) {
-          if (particle || facing(i, x))
+          if (particle || facing(x))
             outward += q.normal;
           else
             held = true;
@@ -485,8 +499,8 @@ ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) co
     if (const Index s = slave_of_row_[i]; s >= 0)
       for (Index c = slave_offsets_[s]; c < slave_offsets_[s + 1]; ++c)
         omega2 += candidates_[c].stiffness * (inverse_mass + candidates_[c].face_inverse_mass);
-    if (i >= real_)
-      for (Index e = master_offsets_[i - real_]; e < master_offsets_[i - real_ + 1]; ++e) {
+    if (i >= p.real)
+      for (Index e = master_offsets_[i - p.real]; e < master_offsets_[i - p.real + 1]; ++e) {
         const Candidate& c = candidates_[master_entries_[e] / 4];
         const double N = c.N[master_entries_[e] % 4];
         f -= N * c.force;
@@ -494,7 +508,7 @@ ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) co
       }
     p.f_p[i] += f;
     p.fc_p[i] += f;
-    if (i < real_ && f != Vec3::Zero())
+    if (i < p.real && f != Vec3::Zero())
       p.xsph_p[i].setZero(); // a pressed particle drifts with v, as in spheres()
     ContactTerm sums;
     sums.omega2 = omega2;
@@ -502,15 +516,10 @@ ContactTotals SurfaceContact::gather(Particles& p, const ContactRanks* ranks) co
   });
 }
 
-void SurfaceContact::follow_background_rows(Index real) {
-  const Index shift = real - real_;
+void SurfaceContact::locate_faces(const Particles& p) {
   for (Face& face : faces_)
-    for (Index& row : face.rows)
-      row += shift;
-  for (Index& row : row_of_node_)
-    if (row >= 0)
-      row += shift;
-  real_ = real;
+    for (int a = 0; a < 4; ++a)
+      face.rows[a] = p.background_row(face.background[a]);
 }
 
 ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, long long lists,
@@ -518,11 +527,10 @@ ContactTotals SurfaceContact::apply(Particles& p, const NeighbourList& list, lon
                                     const ContactRanks* ranks) {
   if (pairs_.empty())
     return {};
-  if (p.real != real_)
-    follow_background_rows(p.real);
   if (eroded_seen_ < 0 || eroded_count(elements) != eroded_seen_)
     build_faces(p, elements);
   if (built_for_ != lists) {
+    locate_faces(p); // the rows may have been laid anew with the lists
     build_candidates(p, list);
     built_for_ = lists;
   }

@@ -112,9 +112,13 @@ private:
     double friction = 0; // μ
   };
   struct Face {
-    std::array<Index, 4> rows; // the background rows of its nodes
+    std::array<Index, 4> background; // its nodes' background particles
+    std::array<Index, 4> rows;       // and their rows (−1: not held on this rank)
     int body = 0;
     double depth = 0; // its element's thickness V0/A0: deeper slaves have passed through, m
+    bool held() const {
+      return std::ranges::none_of(rows, [](Index row) { return row < 0; });
+    }
   };
   // Per candidate (slave, face): the force on the slave and the weights of the face's nodes,
   // and the spring's stiffness where it is within reach of contact (else 0).
@@ -131,10 +135,9 @@ private:
   // node on the live surface of such a body.
   bool slave(const Particles& p, Index i) const;
   void build_faces(const Particles& p, const HexElements& elements);
-  // The background rows now start at `real` (a distributed run's rank lays its real particles'
-  // rows anew at each neighbour list): the faces' rows shift with them; the candidates, found
-  // from each new list, are found again.
-  void follow_background_rows(Index real);
+  // The faces' corners' rows now (a distributed run's rank holds the rows near its own only,
+  // laid anew with each neighbour list; a face far from them has corners it does not hold).
+  void locate_faces(const Particles& p);
   void build_candidates(Particles& p, const NeighbourList& list);
   // The slaves this rank evaluates, and the rows they read added to the halo (collective).
   void share(const Particles& p, const ContactRanks& ranks);
@@ -149,19 +152,21 @@ private:
   std::vector<std::string> names_; // per body, for messages
   std::vector<int> pair_of_;       // bodies × bodies → index into pairs_, −1 if none
   std::vector<Pair> pairs_;
-  std::vector<char> in_pair_;          // per body: in a surface pair
-  std::vector<char> sphere_partner_;   // per body: its particles meet another body's particles
-  std::vector<char> face_partner_;     // per body: paired with a hexahedral body
-  std::vector<int> fem_bodies_;        // hexahedral bodies in a surface pair: they have faces
-  bool erodes_ = false;                // some of them erode
-  std::vector<std::vector<Quad>> cut_; // per body: its symmetry faces, which are not surface
-  std::vector<Index> row_of_node_;     // node → background row, −1 if none
-  Index real_ = 0;                     // rows before the background rows
+  std::vector<char> in_pair_;             // per body: in a surface pair
+  std::vector<char> sphere_partner_;      // per body: its particles meet another body's particles
+  std::vector<char> face_partner_;        // per body: paired with a hexahedral body
+  std::vector<int> fem_bodies_;           // hexahedral bodies in a surface pair: they have faces
+  bool erodes_ = false;                   // some of them erode
+  std::vector<std::vector<Quad>> cut_;    // per body: its symmetry faces, which are not surface
+  std::vector<Index> background_of_node_; // node → background particle, −1 if none
+  std::vector<Vec3> x0_;                  // per background particle: its reference position, m
 
   std::vector<Face> faces_;
-  std::vector<double> area_;       // per background row: tributary area on live surface faces, m²
-  std::vector<double> thickness_;  // per background row: area-weighted V0/A0 under those faces, m
-  std::vector<Vec3> normal_;       // per background row: outward normal of its surface faces now
+  // Per background particle: its tributary area on live surface faces (m²), its area-weighted
+  // V0/A0 under those faces (m) and the outward normal of its surface faces now.
+  std::vector<double> area_;
+  std::vector<double> thickness_;
+  std::vector<Vec3> normal_;
   Index eroded_seen_ = -1;         // eroded elements of fem_bodies_ when faces_ was built
   long long built_for_ = -1;       // the neighbour build the candidates come from
   long long candidate_builds_ = 0; // candidate lists built so far

@@ -35,9 +35,9 @@ ParticleShare make_particle_share(const Particles& p, const NeighbourList& list,
                                   const MirrorParticles& mirrors, std::span<const int> owner,
                                   const RowNumbering& numbering, int rank, bool collective) {
   const Index rows = p.rows(), total = p.total();
-  SPHFEM_CHECK(owner.size() == static_cast<std::size_t>(numbering.model() + p.background),
+  SPHFEM_CHECK(owner.size() == static_cast<std::size_t>(numbering.model() + p.model_background),
                "particle share: ", owner.size(), " owners for ", numbering.model(),
-               " particles and ", p.background, " background rows (internal error)");
+               " particles and ", p.model_background, " background particles (internal error)");
   ParticleShare s;
   s.owner.resize(rows);
   for (Index k = 0; k < rows; ++k)

@@ -38,17 +38,28 @@
 
 namespace sphfem {
 
-// How a rank's rows map to the numbers every rank shares: a real particle's is its model id, the
-// background row k's the model's particle count + k.
+// How a rank's rows map to the numbers every rank shares: a real particle's is its model id,
+// background particle k's the model's particle count + k.
 struct RowNumbering {
   std::span<const Index> id_of_row; // per row: a real particle's model id
   std::span<const Index> row_of_id; // per model particle: its row here, −1 when not held here
   Index real = 0;                   // real particles' rows here (background rows follow)
+  // Per background row here (row − real): its background particle; per background particle: its
+  // row (−1: not held). Empty: every one, in order (Particles::background_row).
+  std::span<const Index> background_of_row = {};
+  std::span<const Index> row_of_background = {};
 
   Index model() const { return static_cast<Index>(row_of_id.size()); }
-  Index number(Index row) const { return row < real ? id_of_row[row] : model() + (row - real); }
+  Index number(Index row) const {
+    if (row < real)
+      return id_of_row[row];
+    return model() + (background_of_row.empty() ? row - real : background_of_row[row - real]);
+  }
   Index row(Index number) const {
-    return number < model() ? row_of_id[number] : real + (number - model());
+    if (number < model())
+      return row_of_id[number];
+    const Index k = number - model();
+    return row_of_background.empty() ? real + k : row_of_background[k];
   }
 };
 

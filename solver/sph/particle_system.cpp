@@ -25,7 +25,7 @@ ParticleSystem::ParticleSystem(const Case& c, const Model& model,
   const std::vector<int> group = c.body_groups();
   auto& p = particles_;
   p.real = p.model_real = n;
-  p.background = attached;
+  p.background = p.model_background = attached;
   p.for_each_field([total](const char*, auto& field) { field.resize(total); });
   for (Index i = 0; i < n; ++i) {
     const int body = model.body_p[i];
@@ -141,20 +141,20 @@ void ParticleSystem::receive_neighbourhood(bool at_build) {
   std::vector<std::vector<Index>> sends =
       rows_near_ranks(p, positions(), own, RowBox(positions(), own), mirror_, margin, cutoff);
   const RowNumbering numbers = numbering();
-  std::vector<Index> ids;
+  std::vector<Index> held; // own, received and filled here
   for (const Index i : own)
-    if (i < p.size())
-      ids.push_back(p.id_p[i]);
+    held.push_back(numbers.number(i));
   for (auto& list : sends)
     for (Index& k : list)
       k = numbers.number(k);
   HaloExchange near = HaloExchange::pushed(std::move(sends));
   for (const auto& from : near.receives())
-    for (const Index number : from)
-      if (number < numbers.model())
-        ids.push_back(number);
-  std::ranges::sort(ids);
-  lay_rows(ids);
+    held.insert(held.end(), from.begin(), from.end());
+  for (const Index k : filled_here_)
+    held.push_back(numbers.model() + k);
+  std::ranges::sort(held);
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+  lay_rows(held);
   near.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
   near.refresh_each([&](auto visit) {
     p.for_each_listed_field(visit);
@@ -179,14 +179,14 @@ void ParticleSystem::receive_neighbourhood(bool at_build) {
   }
 }
 
-void ParticleSystem::lay_rows(const std::vector<Index>& ids) {
+void ParticleSystem::lay_rows(const std::vector<Index>& numbers) {
   auto& p = particles_;
-  const Index real = static_cast<Index>(ids.size()), rows = real + p.background;
+  const RowNumbering before = numbering();
+  const Index model = before.model(), rows = static_cast<Index>(numbers.size());
+  const Index real = static_cast<Index>(std::ranges::lower_bound(numbers, model) - numbers.begin());
   std::vector<Index> from(static_cast<std::size_t>(rows)); // the row now, −1 for none
-  for (Index k = 0; k < real; ++k)
-    from[k] = index_of_id_[ids[k]];
-  for (Index b = 0; b < p.background; ++b)
-    from[real + b] = p.real + b;
+  for (Index k = 0; k < rows; ++k)
+    from[k] = before.row(numbers[k]);
   const auto lay = [&from](const char*, auto& field) {
     if (field.empty())
       return; // a search not built yet
@@ -201,10 +201,19 @@ void ParticleSystem::lay_rows(const std::vector<Index>& ids) {
   p.for_each_field(lay);
   search_.for_each_build_field(lay);
   p.real = real;
+  p.background = rows - real;
   p.mirrored_real = 0;
-  for (Index k = 0; k < real; ++k) {
-    p.id_p[k] = ids[k];
-    index_of_id_[ids[k]] = k;
+  p.background_of_row.resize(static_cast<std::size_t>(p.background));
+  p.row_of_background.assign(static_cast<std::size_t>(p.model_background), -1);
+  for (Index k = 0; k < rows; ++k) {
+    if (k < real) {
+      p.id_p[k] = numbers[k];
+      index_of_id_[numbers[k]] = k;
+    } else {
+      p.id_p[k] = -1;
+      p.background_of_row[k - real] = numbers[k] - model;
+      p.row_of_background[numbers[k] - model] = k;
+    }
   }
 }
 
@@ -239,17 +248,23 @@ void ParticleSystem::migrate() {
   migrations_ += static_cast<long long>(all.size() / 2);
 }
 
+std::vector<Index> ParticleSystem::held_numbers() const {
+  const RowNumbering numbers = numbering();
+  std::vector<Index> held(static_cast<std::size_t>(particles_.rows()));
+  for (Index k = 0; k < particles_.rows(); ++k)
+    held[k] = numbers.number(k);
+  return held;
+}
+
 void ParticleSystem::hand_over(std::vector<std::vector<Index>> numbers) {
   auto& p = particles_;
   HaloExchange rows = HaloExchange::pushed(std::move(numbers));
-  std::vector<Index> ids(p.id_p.begin(), p.id_p.begin() + p.real);
-  const Index model = static_cast<Index>(index_of_id_.size());
+  std::vector<Index> held = held_numbers();
   for (const auto& from : rows.receives())
-    for (const Index number : from)
-      if (number < model && index_of_id_[number] < 0)
-        ids.push_back(number);
-  std::ranges::sort(ids);
-  lay_rows(ids);
+    held.insert(held.end(), from.begin(), from.end());
+  std::ranges::sort(held);
+  held.erase(std::unique(held.begin(), held.end()), held.end());
+  lay_rows(held);
   rows.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
   rows.refresh_by_field([&](auto visit) {
     p.for_each_field(visit);
@@ -331,9 +346,14 @@ void ParticleSystem::persist(StateArchive& a) {
   a.value("particles/skin", skin_);
   a.value("particles/dt_stable", dt_stable_);
   a.value("particles/rebuilds", rebuilds_);
-  if (!a.reading() || !search_.built())
+  if (!a.reading())
     return;
-  p.model_real = static_cast<Index>(index_of_id_.size());
+  p.model_real = static_cast<Index>(index_of_id_.size()); // every row was read
+  p.model_background = p.background;
+  p.background_of_row.clear();
+  p.row_of_background.clear();
+  if (!search_.built())
+    return;
   if (!share_) {
     relist();
     return;
@@ -345,10 +365,11 @@ void ParticleSystem::persist(StateArchive& a) {
 // rank 0, which writes (the others' archive discards); no mirror images: reading makes them.
 void ParticleSystem::persist_whole(StateArchive& a) {
   auto& p = particles_;
-  const Index model = static_cast<Index>(index_of_id_.size()), count = model + p.background;
-  Index real = model, mirrored = 0;
+  const Index model = static_cast<Index>(index_of_id_.size());
+  const Index count = model + p.model_background;
+  Index real = model, background = p.model_background, mirrored = 0;
   a.value("particles/real", real);
-  a.value("particles/background", p.background);
+  a.value("particles/background", background);
   a.value("particles/mirrored_real", mirrored);
   a.value("particles/inelastic", p.inelastic);
   a.value("particles/excluded", p.excluded);
@@ -375,7 +396,8 @@ void ParticleSystem::persist_whole(StateArchive& a) {
 }
 
 void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
-                                bool attached_rows_listed_if_near, Migration migration) {
+                                std::vector<Index> filled_here, bool attached_rows_listed_if_near,
+                                Migration migration) {
   std::vector<int> owner = std::move(owner_of_id);
   owner.insert(owner.end(), owner_of_background.begin(), owner_of_background.end());
   const bool cut_anew = share_ != nullptr;
@@ -390,16 +412,41 @@ void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> o
   }
   distributed_ = true;
   owner_ = std::move(owner);
+  filled_here_ = std::move(filled_here);
   migration_ = std::move(migration);
   attached_rows_listed_if_near_ = attached_rows_listed_if_near;
   if (empty())
     return;
+  if (cut_anew)
+    hold_filled_rows();
   if (!search_.built()) {
     start();
     return;
   }
   relist_shared();
   ++list_builds_;
+}
+
+// The background rows this rank fills from now on and does not hold, whole from their owners: a
+// fill writes some fields only (and keeps the density where every element around is eroded).
+void ParticleSystem::hold_filled_rows() {
+  auto& p = particles_;
+  const RowNumbering numbers = numbering();
+  std::vector<Index> missing;
+  for (const Index k : filled_here_)
+    if (numbers.row(numbers.model() + k) < 0)
+      missing.push_back(numbers.model() + k);
+  HaloExchange rows(owner_, missing);
+  std::vector<Index> held = held_numbers();
+  held.insert(held.end(), missing.begin(), missing.end());
+  std::ranges::sort(held);
+  lay_rows(held);
+  rows.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
+  rows.refresh_by_field([&](auto visit) {
+    p.for_each_field(visit);
+    search_.for_each_build_field(visit);
+  });
+  halo_bytes_ += rows.bytes_sent();
 }
 
 void ParticleSystem::relist_shared() {

@@ -61,7 +61,8 @@ public:
   };
   // A distributed run (issue 28): from now on this rank steps the particles owner_of_id gives
   // it (by model id; they migrate as `migration` says) and computes what their forces read
-  // (parallel/particle_share.hpp). Collective, as are update() and persist() after it.
+  // (parallel/particle_share.hpp). filled_here: the attached rows this rank fills (their nodes'
+  // rank), which it holds whatever their owner. Collective, as are update() and persist() after it.
   // owner_of_background: the rank of each attached row. The neighbour lists are then of the rows
   // this rank steps only, and, when `attached_rows_listed_if_near`, of the attached rows within two
   // list cutoffs of one of them (a coupling reads those: the surface contact finds its candidates
@@ -70,7 +71,8 @@ public:
   // whole from its old rank, and lists the rows from the last build's positions, which travel with
   // the rows near its own.
   void distribute(std::vector<int> owner_of_id, std::vector<int> owner_of_background,
-                  bool attached_rows_listed_if_near, Migration migration = {});
+                  std::vector<Index> filled_here, bool attached_rows_listed_if_near,
+                  Migration migration = {});
   // Particles that changed rank since the start (over all ranks).
   long long migrations() const { return migrations_; }
   // Each real particle's value of `field` (a particle field, by row here) by model id, from its
@@ -149,16 +151,21 @@ private:
   // Whole rows (and their last build's positions) from this rank to others: numbers[r] lists the
   // shared numbers (RowNumbering) of those rank r takes. Collective.
   void hand_over(std::vector<std::vector<Index>> numbers);
-  // Holds the real particles `ids` lists (ascending model ids) and every background row, in that
-  // order, keeping the state of those held already; the new rows are zero until received, the
-  // mirror images and lists gone until the next build.
-  void lay_rows(const std::vector<Index>& ids);
+  // Holds the rows of the shared numbers `numbers` lists (ascending: real particles, then
+  // background rows), keeping the state of those held already; the new rows are zero until
+  // received, the mirror images and lists gone until the next build.
+  void lay_rows(const std::vector<Index>& numbers);
+  std::vector<Index> held_numbers() const; // of the rows held now, ascending
+  void hold_filled_rows();
   // The rows near this rank's own, at their current positions or (`at_build`) at the last
   // build's, from their owners; the rows laid as own and those.
   void receive_neighbourhood(bool at_build);
   void relist();
   void mark_listed(); // the rows this rank lists (all on one process: none marked)
-  RowNumbering numbering() const { return {particles_.id_p, index_of_id_, particles_.real}; }
+  RowNumbering numbering() const {
+    const Particles& p = particles_;
+    return {p.id_p, index_of_id_, p.real, p.background_of_row, p.row_of_background};
+  }
   // A distributed run's rank stepping row k (a real particle's or an attached row's).
   int row_owner(Index k) const { return owner_[numbering().number(k)]; }
   // A field's values of the first `count` shared numbers (RowNumbering), from their owners, on
@@ -194,6 +201,7 @@ private:
   bool distributed_ = false; // distribute() was called
   // A distributed run's owners by shared number (model particles, then attached rows).
   std::vector<int> owner_;
+  std::vector<Index> filled_here_; // attached rows this rank fills: held whatever their owner
   Migration migration_;
   long long migrations_ = 0;
   bool attached_rows_listed_if_near_ = false;

@@ -24,6 +24,12 @@ struct Particles {
   Index real = 0;
   Index model_real = 0; // the model's real particles (a distributed run's rank holds some of them)
   Index background = 0;
+  Index model_background = 0; // the model's background particles (likewise)
+  // A distributed run's rank holds some background particles only: per background row here
+  // (row − real) its background particle, and per background particle its row here (−1: not
+  // held). Both empty: every one, in order (background particle k in row real + k).
+  std::vector<Index> background_of_row;
+  std::vector<Index> row_of_background;
   Index mirrored_real = 0; // mirror images of real particles (the first ones after rows())
   bool inelastic = false;  // some particle's material carries a plastic/damage history
   Index excluded = 0;      // real particles killed and in tension (out of all sums)
@@ -107,6 +113,13 @@ struct Particles {
     fc_p[i].setZero();
     fm_p[i].setZero();
     phi_p[i] = 0;
+  }
+
+  Index background_row(Index k) const {
+    return row_of_background.empty() ? real + k : row_of_background[k];
+  }
+  Index background_particle(Index row) const {
+    return background_of_row.empty() ? row - real : background_of_row[row - real];
   }
 
   Index size() const { return real; }

@@ -361,7 +361,10 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
   summary["entity_steps_per_s"] =
       wall > 0 ? double(particles + elements) * double(sim.steps() - first_step) / wall : 0.0;
   summary["threads"] = thread_count();
-  summary["counts"] = {{"particles", particles}, {"nodes", nodes}, {"elements", elements}};
+  summary["counts"] = {{"particles", particles},
+                       {"nodes", nodes},
+                       {"elements", elements},
+                       {"background_particles", Index(model.background_nodes.size())}};
   summary["dt"] = {{"initial", dt0}, {"final", sim.stable_dt()}};
   summary["energy"] = {{"kinetic", e.kinetic},
                        {"internal", e.internal},
@@ -438,12 +441,18 @@ nlohmann::json solve(const Case& c, const Model& model, const SolveOptions& opti
     }
     summary["halo_fraction"] = {{"mean", mean}, {"max", largest}};
     summary["peak_resident_MB_per_rank"] = peaks;
-    // The real particles whose rows each rank holds at the end: its own and those near them.
-    std::vector<Index> held;
-    for (const double n :
-         ranks::gather_all(std::array{double(sim.particle_system().particles().size())}))
-      held.push_back(static_cast<Index>(n));
-    summary["particles_held_per_rank"] = held;
+    // The rows each rank holds at the end, of real particles and of background particles: its
+    // own, those near them and those of the nodes it steps.
+    const Particles& p = sim.particle_system().particles();
+    const std::vector<double> rows =
+        ranks::gather_all(std::array{double(p.size()), double(p.background)});
+    std::vector<Index> held_particles, held_background;
+    for (std::size_t r = 0; r < rows.size(); r += 2) {
+      held_particles.push_back(static_cast<Index>(rows[r]));
+      held_background.push_back(static_cast<Index>(rows[r + 1]));
+    }
+    summary["rows_held_per_rank"] = {{"particles", held_particles},
+                                     {"background_particles", held_background}};
     log.line("ranks exchanged " + format("%.3g", sent / 1e6) + " MB (" +
              format("%.3g", entity_steps > 0 ? sent / entity_steps : 0.0) +
              " B per entity-step) for their halos; halo fraction " + format("%.3f", mean) +

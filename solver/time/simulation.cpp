@@ -99,7 +99,7 @@ Simulation::Simulation(const Case& c, const Model& model, const Decomposition* d
       deterministic_sum(n, 0.0, [&](Index i) { return nodes_.m_n[i] * nodes_.v_n[i].norm(); }) +
       deterministic_sum(p.size(), 0.0, [&](Index i) { return p.m_p[i] * p.v_p[i].norm(); });
   if (subdomain_)
-    particles_.distribute(decomposition_.part_p, decomposition_.part_b,
+    particles_.distribute(decomposition_.part_p, decomposition_.part_b, subdomain_->background,
                           contact_.reads_lists_of_nearby_background_rows(),
                           migration(decomposition_));
   apply_contact(0.0);
@@ -171,8 +171,8 @@ void Simulation::take_share(Decomposition d, const Model& model) {
   HaloExchange::pushed(std::move(moves)).refresh_by_field([this](auto visit) {
     nodes_.for_each_field(visit);
   });
-  particles_.distribute(d.part_p, d.part_b, contact_.reads_lists_of_nearby_background_rows(),
-                        migration(d));
+  particles_.distribute(d.part_p, d.part_b, subdomain_->background,
+                        contact_.reads_lists_of_nearby_background_rows(), migration(d));
   decomposition_ = std::move(d);
 }
 
@@ -288,7 +288,7 @@ Rebalance Simulation::rebalance(const Model& model, const EntityCosts& reference
     if (p.kill_p[real[k]] != Kill::Tension)
       particle_cost += live_particle_cost(p.neighbours_p[real[k]], yields_p(real[k]));
   for (Index k = 0; k < attached.count; ++k)
-    particle_cost += reference.background[attached[k] - p.size()];
+    particle_cost += reference.background[p.background_particle(attached[k])];
   for (const Index k : subdomain_->elements)
     element_cost += e.eroded_e[k] == 0 ? live_element_cost(reference.element[k], yields_e(k)) : 0;
   const std::vector<double> each = ranks::gather_all(std::array{particle_cost, element_cost});

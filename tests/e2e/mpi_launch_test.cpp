@@ -198,11 +198,13 @@ nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
     EXPECT_EQ(summary["ranks"], ranks);
     EXPECT_GT(summary["halo_bytes_per_entity_step"].get<double>(), 0.0);
     const auto particles = one["counts"]["particles"].get<long long>();
-    const auto held = summary["particles_held_per_rank"].get<std::vector<long long>>();
+    const auto held = summary["rows_held_per_rank"]["particles"].get<std::vector<long long>>();
     EXPECT_EQ(held.size(), static_cast<std::size_t>(ranks));
     EXPECT_GE(std::accumulate(held.begin(), held.end(), 0LL), particles);
     const long long most = held.empty() ? 0 : *std::ranges::max_element(held);
     EXPECT_LE(most, particles);
+    for (const long long background : summary["rows_held_per_rank"]["background_particles"])
+      EXPECT_LE(background, one["counts"]["background_particles"].get<long long>());
     if (shares != nullptr) {
       shares->rebalances.push_back(summary["rebalances"].get<int>());
       shares->migrations.push_back(summary["migrations"].get<long long>());
@@ -212,7 +214,7 @@ nlohmann::json expect_ranks_repeat_one_process(const std::string& case_file,
     summary.erase("halo_bytes_per_entity_step");
     summary.erase("rebalances");
     summary.erase("migrations");
-    summary.erase("particles_held_per_rank");
+    summary.erase("rows_held_per_rank");
     EXPECT_EQ(summary["peak_resident_MB_per_rank"].size(), static_cast<std::size_t>(ranks));
     summary.erase("peak_resident_MB_per_rank");
     // Every rank reads a halo from the others.
@@ -546,6 +548,14 @@ TEST(MpiLaunch, CoarseBorvikShotOnTwoRanksIsTheOneProcessRun) {
   EXPECT_EQ(summary["bodies"], reference["bodies"]);
   EXPECT_EQ(summary["energy"], reference["energy"]);
   EXPECT_EQ(summary["momentum_drift"], reference["momentum_drift"]);
+  // A rank holds the background particles of its nodes and of those near its particles only:
+  // with 5 list cutoffs around its own for the surface contact, the core's particles and 1 329
+  // background particles are all near on one rank, 1 012 of them on the other.
+  const auto held =
+      summary["rows_held_per_rank"]["background_particles"].get<std::vector<double>>();
+  ASSERT_EQ(held.size(), 2u);
+  EXPECT_LT(std::ranges::min(held),
+            0.9 * reference["counts"]["background_particles"].get<double>());
   // The projectile has struck: it has lost more than 10% of its speed and is still going.
   EXPECT_GT(reference["bodies"]["projectile"]["com_velocity"][2].get<double>(), -273.0);
   EXPECT_LT(reference["bodies"]["projectile"]["com_velocity"][2].get<double>(), -150.0);
