@@ -15,7 +15,8 @@
 // Rebuilt with each neighbour list.
 //
 // A rank holds the rows it owns and those near them only (RowNumbering): its real particles'
-// rows in model-id order, then every background row, then its mirror images. The exchanges are
+// rows in model-id order, then its background rows in their nodes' order (also those of the
+// nodes it steps), then its mirror images. The exchanges are
 // agreed on the numbers every rank shares and then renumbered to each side's rows
 // (HaloExchange::to_slots).
 //

@@ -152,9 +152,7 @@ void ParticleSystem::receive_neighbourhood(bool at_build) {
     held.insert(held.end(), from.begin(), from.end());
   for (const Index k : filled_here_)
     held.push_back(numbers.model() + k);
-  std::ranges::sort(held);
-  held.erase(std::unique(held.begin(), held.end()), held.end());
-  lay_rows(held);
+  lay_rows(std::move(held));
   near.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
   near.refresh_each([&](auto visit) {
     p.for_each_listed_field(visit);
@@ -179,7 +177,9 @@ void ParticleSystem::receive_neighbourhood(bool at_build) {
   }
 }
 
-void ParticleSystem::lay_rows(const std::vector<Index>& numbers) {
+void ParticleSystem::lay_rows(std::vector<Index> numbers) {
+  std::ranges::sort(numbers);
+  numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
   auto& p = particles_;
   const RowNumbering before = numbering();
   const Index model = before.model(), rows = static_cast<Index>(numbers.size());
@@ -257,14 +257,15 @@ std::vector<Index> ParticleSystem::held_numbers() const {
 }
 
 void ParticleSystem::hand_over(std::vector<std::vector<Index>> numbers) {
+  receive_whole(HaloExchange::pushed(std::move(numbers)));
+}
+
+void ParticleSystem::receive_whole(HaloExchange rows) {
   auto& p = particles_;
-  HaloExchange rows = HaloExchange::pushed(std::move(numbers));
   std::vector<Index> held = held_numbers();
   for (const auto& from : rows.receives())
     held.insert(held.end(), from.begin(), from.end());
-  std::ranges::sort(held);
-  held.erase(std::unique(held.begin(), held.end()), held.end());
-  lay_rows(held);
+  lay_rows(std::move(held));
   rows.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
   rows.refresh_by_field([&](auto visit) {
     p.for_each_field(visit);
@@ -430,23 +431,12 @@ void ParticleSystem::distribute(std::vector<int> owner_of_id, std::vector<int> o
 // The background rows this rank fills from now on and does not hold, whole from their owners: a
 // fill writes some fields only (and keeps the density where every element around is eroded).
 void ParticleSystem::hold_filled_rows() {
-  auto& p = particles_;
   const RowNumbering numbers = numbering();
   std::vector<Index> missing;
   for (const Index k : filled_here_)
     if (numbers.row(numbers.model() + k) < 0)
       missing.push_back(numbers.model() + k);
-  HaloExchange rows(owner_, missing);
-  std::vector<Index> held = held_numbers();
-  held.insert(held.end(), missing.begin(), missing.end());
-  std::ranges::sort(held);
-  lay_rows(held);
-  rows.to_slots([numbers = numbering()](Index number) { return numbers.row(number); });
-  rows.refresh_by_field([&](auto visit) {
-    p.for_each_field(visit);
-    search_.for_each_build_field(visit);
-  });
-  halo_bytes_ += rows.bytes_sent();
+  receive_whole(HaloExchange(owner_, missing));
 }
 
 void ParticleSystem::relist_shared() {

@@ -12,8 +12,8 @@
 // takes back after it, with the contact between bodies (coupling/). The particle phase itself
 // knows nothing of elements. A case without particles or attached rows builds none of this.
 // A distributed run's rank holds only the real particles it steps and those near them, in
-// model-id order, then every background row, then its images (parallel/particle_share.hpp): its
-// rows are laid anew at each rebuild and new cut.
+// model-id order, then the background rows of those and of its nodes, in their nodes' order, then
+// its images (parallel/particle_share.hpp): its rows are laid anew at each rebuild and new cut.
 // Verified by tests/sph/sph_test.cpp, tests/sph/attached_rows_test.cpp and tests/coupling/.
 #pragma once
 
@@ -49,7 +49,7 @@ public:
                  Index attached = 0, const AttachRows& attach = {}, bool distributed = false);
 
   // No particles and no attached rows in the model (a distributed rank may hold none of them).
-  bool empty() const { return particles_.model_real + particles_.background == 0; }
+  bool empty() const { return particles_.model_real + particles_.model_background == 0; }
   // How a distributed run's real particles change rank between cuts: at each neighbour-list
   // rebuild, one that left its rank's region by more than a list cutoff goes to the rank
   // `owner_at` names (the one whose region holds x; `current` while x lies within `slack` of
@@ -151,10 +151,13 @@ private:
   // Whole rows (and their last build's positions) from this rank to others: numbers[r] lists the
   // shared numbers (RowNumbering) of those rank r takes. Collective.
   void hand_over(std::vector<std::vector<Index>> numbers);
-  // Holds the rows of the shared numbers `numbers` lists (ascending: real particles, then
-  // background rows), keeping the state of those held already; the new rows are zero until
-  // received, the mirror images and lists gone until the next build.
-  void lay_rows(const std::vector<Index>& numbers);
+  // Whole rows from their owners, with their last build's positions: those `rows` (an exchange
+  // on shared numbers) brings, held from now on. Collective.
+  void receive_whole(HaloExchange rows);
+  // Holds the rows of the shared numbers `numbers` lists (any order, repeats allowed), in their
+  // order — real particles, then background rows — keeping the state of those held already; the
+  // new rows are zero until received, the mirror images and lists gone until the next build.
+  void lay_rows(std::vector<Index> numbers);
   std::vector<Index> held_numbers() const; // of the rows held now, ascending
   void hold_filled_rows();
   // The rows near this rank's own, at their current positions or (`at_build`) at the last
